@@ -1,0 +1,40 @@
+// Frames, material directors and per-spring strains of a rod network at a DOF vector
+// (spec 1.3, 1.6, 1.7).
+#pragma once
+
+#include <vector>
+
+#include "flagella_sim/core/types.h"
+#include "flagella_sim/rod/rod_network.h"
+#include "flagella_sim/rod/rod_state.h"
+
+namespace flagella {
+
+/// Builds t = 0 frames by space-parallel transport along the tree from the root edge,
+/// and measures each spring's initial reference twist directly (spec 1.7).
+ReferenceFrames initialFrames(const RodNetwork& net, const VecX& q, int root_edge = 0);
+
+/// Time-parallel transport of every reference frame from `previous` (at the start of the step)
+/// to the tangents of q, with the reference twist tracked incrementally (spec 1.3, 1.7).
+ReferenceFrames transportFrames(const RodNetwork& net, const VecX& q,
+                                const ReferenceFrames& previous);
+
+/// Local-representation quantities of one bending-twisting spring (spec 1.3, 1.6).
+struct SpringGeometry {
+  Vec3 e, f;            ///< local edge vectors (x_c - x_p, x_q - x_c)
+  double len_e, len_f;  ///< |e|, |f|
+  Vec3 te, tf;          ///< local unit tangents
+  Vec3 m1e, m2e, m1f, m2f;  ///< local material directors
+  Vec3 kb;              ///< curvature binormal
+  double kappa1, kappa2, tau;
+};
+
+/// Evaluates one spring's local geometry from q, the reference frames and its ref. twist.
+SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& spring,
+                              const VecX& q, const ReferenceFrames& frames, int spring_index);
+
+/// Material director m1^j (stored orientation) of edge j.
+Vec3 materialDirector1(const ReferenceFrames& frames, const VecX& q, const RodNetwork& net,
+                       int edge);
+
+}  // namespace flagella

@@ -1,0 +1,46 @@
+#include "flagella_sim/core/geometry.h"
+
+#include <cmath>
+
+namespace flagella {
+
+namespace {
+// Below this |a x b| the two tangents are treated as parallel (transport is the identity).
+constexpr double kParallelTolerance = 1e-14;
+}  // namespace
+
+Mat3 skew(const Vec3& a) {
+  Mat3 m;
+  m << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
+  return m;
+}
+
+Vec3 parallelTransport(const Vec3& u, const Vec3& a, const Vec3& b) {
+  // spec 1.3: P(u) = (u.a) b + (u.n1) n2 + (u.bhat) bhat
+  const Vec3 bvec = a.cross(b);
+  const double norm = bvec.norm();
+  if (norm < kParallelTolerance) return u;
+  const Vec3 bhat = bvec / norm;
+  const Vec3 n1 = a.cross(bhat);
+  const Vec3 n2 = b.cross(bhat);
+  return u.dot(a) * b + u.dot(n1) * n2 + u.dot(bhat) * bhat;
+}
+
+double signedAngle(const Vec3& u, const Vec3& v, const Vec3& n) {
+  const Vec3 w = u.cross(v);
+  const double angle = std::atan2(w.norm(), u.dot(v));
+  return n.dot(w) < 0.0 ? -angle : angle;
+}
+
+Vec3 rotateAboutAxis(const Vec3& v, const Vec3& k, double angle) {
+  const double c = std::cos(angle);
+  const double s = std::sin(angle);
+  return c * v + s * k.cross(v) + (1.0 - c) * k.dot(v) * k;
+}
+
+Vec3 anyPerpendicular(const Vec3& t) {
+  const Vec3 trial = std::abs(t.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  return (trial - trial.dot(t) * t).normalized();
+}
+
+}  // namespace flagella

@@ -1,0 +1,89 @@
+#include "flagella_sim/core/sparse_assembler.h"
+
+#include <algorithm>
+
+namespace flagella {
+
+void SparseAssembler::resize(int size) {
+  size_ = size;
+  recorded_ = false;
+}
+
+void SparseAssembler::begin() {
+  cursor_ = 0;
+  recording_ = !recorded_;
+  if (recording_) {
+    rows_.clear();
+    cols_.clear();
+    values_.clear();
+  } else {
+    std::fill(matrix_.valuePtr(), matrix_.valuePtr() + matrix_.nonZeros(), 0.0);
+  }
+}
+
+void SparseAssembler::switchToRecording() {
+  // The sequence diverged from the recorded pattern: replay what was added so far.
+  recording_ = true;
+  rows_.resize(cursor_);
+  cols_.resize(cursor_);
+  values_.assign(cursor_, 0.0);
+  for (size_t k = 0; k < cursor_; ++k) values_[k] = matrix_.valuePtr()[slot_[k]];
+  // Values of shared slots were summed; keep the sum on the first contribution only.
+  std::vector<bool> seen(matrix_.nonZeros(), false);
+  for (size_t k = 0; k < cursor_; ++k) {
+    if (seen[slot_[k]]) values_[k] = 0.0;
+    seen[slot_[k]] = true;
+  }
+}
+
+void SparseAssembler::add(int row, int col, double value) {
+  if (!recording_) {
+    if (cursor_ < rows_.size() && rows_[cursor_] == row && cols_[cursor_] == col) {
+      matrix_.valuePtr()[slot_[cursor_]] += value;
+      ++cursor_;
+      return;
+    }
+    switchToRecording();
+  }
+  rows_.push_back(row);
+  cols_.push_back(col);
+  values_.push_back(value);
+  ++cursor_;
+}
+
+void SparseAssembler::addBlock(int row, int col, const Mat3& block) {
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) add(row + a, col + b, block(a, b));
+}
+
+const SparseMatrix& SparseAssembler::finish() {
+  if (!recording_ && cursor_ == rows_.size()) {
+    pattern_changed_ = false;
+    return matrix_;
+  }
+  if (!recording_) switchToRecording();
+  rows_.resize(cursor_);
+  cols_.resize(cursor_);
+  values_.resize(cursor_);
+  // Build the pattern: every diagonal is present so fixed-DOF rows can be pinned.
+  TripletList triplets;
+  triplets.reserve(rows_.size() + size_);
+  for (int i = 0; i < size_; ++i) triplets.emplace_back(i, i, 0.0);
+  for (size_t k = 0; k < rows_.size(); ++k) triplets.emplace_back(rows_[k], cols_[k], values_[k]);
+  matrix_.resize(size_, size_);
+  matrix_.setFromTriplets(triplets.begin(), triplets.end());
+  matrix_.makeCompressed();
+  // Locate each contribution's slot in the compressed storage.
+  slot_.resize(rows_.size());
+  for (size_t k = 0; k < rows_.size(); ++k) {
+    const int col = cols_[k];
+    const int* begin = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[col];
+    const int* end = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[col + 1];
+    slot_[k] = static_cast<int>(std::lower_bound(begin, end, rows_[k]) - matrix_.innerIndexPtr());
+  }
+  recorded_ = true;
+  pattern_changed_ = true;
+  return matrix_;
+}
+
+}  // namespace flagella

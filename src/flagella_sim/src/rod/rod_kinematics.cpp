@@ -1,0 +1,149 @@
+#include "flagella_sim/rod/rod_kinematics.h"
+
+#include <cmath>
+#include <queue>
+#include <stdexcept>
+
+#include "flagella_sim/core/geometry.h"
+
+namespace flagella {
+
+namespace {
+
+Vec3 edgeVector(const RodNetwork& net, const VecX& q, int edge) {
+  const EdgeDef& e = net.edges[edge];
+  return nodePosition(q, e.end_node) - nodePosition(q, e.start_node);
+}
+
+std::vector<Vec3> unitTangents(const RodNetwork& net, const VecX& q) {
+  std::vector<Vec3> t(net.numEdges());
+  for (int j = 0; j < net.numEdges(); ++j) t[j] = edgeVector(net, q, j).normalized();
+  return t;
+}
+
+// Reference twist of spring s measured directly (no history): signed angle from the
+// parallel-transported local d1 of E to the local d1 of F, about t_f (spec 1.3).
+double directReferenceTwist(const BendTwistSpring& s, const ReferenceFrames& fr) {
+  const Vec3 te = s.sign_e * fr.tangent[s.edge_e];
+  const Vec3 tf = s.sign_f * fr.tangent[s.edge_f];
+  const Vec3 d1e = s.sign_e * fr.d1[s.edge_e];
+  const Vec3 d1f = s.sign_f * fr.d1[s.edge_f];
+  return signedAngle(parallelTransport(d1e, te, tf), d1f, tf);
+}
+
+}  // namespace
+
+ReferenceFrames initialFrames(const RodNetwork& net, const VecX& q, int root_edge) {
+  const int ne = net.numEdges();
+  ReferenceFrames fr;
+  fr.tangent = unitTangents(net, q);
+  fr.d1.assign(ne, Vec3::Zero());
+  fr.d2.assign(ne, Vec3::Zero());
+
+  // Edges incident to each node, for the breadth-first walk over the tree.
+  std::vector<std::vector<int>> incident(net.numNodes());
+  for (int j = 0; j < ne; ++j) {
+    incident[net.edges[j].start_node].push_back(j);
+    incident[net.edges[j].end_node].push_back(j);
+  }
+  std::vector<bool> done(ne, false);
+  std::queue<int> queue;
+  fr.d1[root_edge] = anyPerpendicular(fr.tangent[root_edge]);
+  done[root_edge] = true;
+  queue.push(root_edge);
+  while (!queue.empty()) {
+    const int h = queue.front();
+    queue.pop();
+    for (int node : {net.edges[h].start_node, net.edges[h].end_node}) {
+      for (int g : incident[node]) {
+        if (done[g]) continue;
+        // Orient h into the shared node and g out of it, transport there (spec 1.6, 1.7).
+        const double sh = net.edges[h].end_node == node ? 1.0 : -1.0;
+        const double sg = net.edges[g].start_node == node ? 1.0 : -1.0;
+        const Vec3 d1g_local =
+            parallelTransport(sh * fr.d1[h], sh * fr.tangent[h], sg * fr.tangent[g]);
+        const Vec3 tg = fr.tangent[g];
+        fr.d1[g] = (sg * d1g_local - (sg * d1g_local).dot(tg) * tg).normalized();
+        done[g] = true;
+        queue.push(g);
+      }
+    }
+  }
+  for (int j = 0; j < ne; ++j) {
+    if (!done[j]) throw std::invalid_argument("rod network is not connected: edge " +
+                                              std::to_string(j) + " unreachable");
+    fr.d2[j] = fr.tangent[j].cross(fr.d1[j]);
+  }
+  fr.reference_twist.resize(net.bend_twist_springs.size());
+  for (size_t s = 0; s < net.bend_twist_springs.size(); ++s)
+    fr.reference_twist[s] = directReferenceTwist(net.bend_twist_springs[s], fr);
+  return fr;
+}
+
+ReferenceFrames transportFrames(const RodNetwork& net, const VecX& q,
+                                const ReferenceFrames& previous) {
+  const int ne = net.numEdges();
+  ReferenceFrames fr;
+  fr.tangent = unitTangents(net, q);
+  fr.d1.resize(ne);
+  fr.d2.resize(ne);
+  for (int j = 0; j < ne; ++j) {
+    // spec 1.7: d1(iterate) = P_{t(t_k) -> t(iterate)} d1(t_k), d2 = t x d1
+    const Vec3 d1 = parallelTransport(previous.d1[j], previous.tangent[j], fr.tangent[j]);
+    fr.d1[j] = (d1 - d1.dot(fr.tangent[j]) * fr.tangent[j]).normalized();
+    fr.d2[j] = fr.tangent[j].cross(fr.d1[j]);
+  }
+  fr.reference_twist.resize(net.bend_twist_springs.size());
+  for (size_t s = 0; s < net.bend_twist_springs.size(); ++s) {
+    // spec 1.3: rotate P(d1_E) by the previous m_ref about t_f, add the small signed angle
+    const BendTwistSpring& sp = net.bend_twist_springs[s];
+    const Vec3 te = sp.sign_e * fr.tangent[sp.edge_e];
+    const Vec3 tf = sp.sign_f * fr.tangent[sp.edge_f];
+    const Vec3 d1e = sp.sign_e * fr.d1[sp.edge_e];
+    const Vec3 d1f = sp.sign_f * fr.d1[sp.edge_f];
+    const double old_twist = previous.reference_twist[s];
+    const Vec3 transported = rotateAboutAxis(parallelTransport(d1e, te, tf), tf, old_twist);
+    fr.reference_twist[s] = old_twist + signedAngle(transported, d1f, tf);
+  }
+  return fr;
+}
+
+SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& sp, const VecX& q,
+                              const ReferenceFrames& fr, int spring_index) {
+  SpringGeometry g;
+  const Vec3 xp = nodePosition(q, sp.node_p);
+  const Vec3 xc = nodePosition(q, sp.node_c);
+  const Vec3 xq = nodePosition(q, sp.node_q);
+  g.e = xc - xp;
+  g.f = xq - xc;
+  g.len_e = g.e.norm();
+  g.len_f = g.f.norm();
+  g.te = g.e / g.len_e;
+  g.tf = g.f / g.len_f;
+  // Local material frames (spec 1.6): m1_loc = s m1, m2_loc = m2, theta_loc = s theta.
+  const double theta_e = sp.sign_e * q(net.thetaIndex(sp.edge_e));
+  const double theta_f = sp.sign_f * q(net.thetaIndex(sp.edge_f));
+  const Vec3 d1e = sp.sign_e * fr.d1[sp.edge_e];
+  const Vec3 d2e = fr.d2[sp.edge_e];
+  const Vec3 d1f = sp.sign_f * fr.d1[sp.edge_f];
+  const Vec3 d2f = fr.d2[sp.edge_f];
+  const double ce = std::cos(theta_e), se = std::sin(theta_e);
+  const double cf = std::cos(theta_f), sf = std::sin(theta_f);
+  g.m1e = ce * d1e + se * d2e;
+  g.m2e = -se * d1e + ce * d2e;
+  g.m1f = cf * d1f + sf * d2f;
+  g.m2f = -sf * d1f + cf * d2f;
+  // spec 1.3: kb = 2 (t_e x t_f) / (1 + t_e.t_f), kappa1 = 1/2 (m2e+m2f).kb, kappa2 = -1/2 (m1e+m1f).kb
+  g.kb = 2.0 * g.te.cross(g.tf) / (1.0 + g.te.dot(g.tf));
+  g.kappa1 = 0.5 * (g.m2e + g.m2f).dot(g.kb);
+  g.kappa2 = -0.5 * (g.m1e + g.m1f).dot(g.kb);
+  g.tau = theta_f - theta_e + fr.reference_twist[spring_index];  // spec 1.3 [CORR-9]
+  return g;
+}
+
+Vec3 materialDirector1(const ReferenceFrames& fr, const VecX& q, const RodNetwork& net, int edge) {
+  const double th = q(net.thetaIndex(edge));
+  return std::cos(th) * fr.d1[edge] + std::sin(th) * fr.d2[edge];
+}
+
+}  // namespace flagella
