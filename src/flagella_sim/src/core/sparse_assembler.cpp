@@ -36,15 +36,8 @@ void SparseAssembler::switchToRecording() {
   }
 }
 
-void SparseAssembler::add(int row, int col, double value) {
-  if (!recording_) {
-    if (cursor_ < rows_.size() && rows_[cursor_] == row && cols_[cursor_] == col) {
-      matrix_.valuePtr()[slot_[cursor_]] += value;
-      ++cursor_;
-      return;
-    }
-    switchToRecording();
-  }
+void SparseAssembler::addSlow(int row, int col, double value) {
+  if (!recording_) switchToRecording();
   rows_.push_back(row);
   cols_.push_back(col);
   values_.push_back(value);
@@ -56,7 +49,7 @@ void SparseAssembler::addBlock(int row, int col, const Mat3& block) {
     for (int b = 0; b < 3; ++b) add(row + a, col + b, block(a, b));
 }
 
-const SparseMatrix& SparseAssembler::finish() {
+SparseMatrix& SparseAssembler::finish() {
   if (!recording_ && cursor_ == rows_.size()) {
     pattern_changed_ = false;
     return matrix_;
@@ -81,6 +74,7 @@ const SparseMatrix& SparseAssembler::finish() {
     const int* end = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[col + 1];
     slot_[k] = static_cast<int>(std::lower_bound(begin, end, rows_[k]) - matrix_.innerIndexPtr());
   }
+  values_ptr_ = matrix_.valuePtr();
   recorded_ = true;
   pattern_changed_ = true;
   return matrix_;

@@ -10,19 +10,42 @@ namespace {
 using EdgeVector = Eigen::Matrix<double, 8, 1>;
 using EdgeMatrix = Eigen::Matrix<double, 8, 8>;
 
-// Linear map from local node DOFs to edge space: e = x_c - x_p, f = x_q - x_c (spec 1.5).
-Eigen::Matrix<double, 8, 11> edgeFromNodes() {
-  Eigen::Matrix<double, 8, 11> T = Eigen::Matrix<double, 8, 11>::Zero();
-  T.block<3, 3>(0, 0) = -Mat3::Identity();
-  T.block<3, 3>(0, 3) = Mat3::Identity();
-  T.block<3, 3>(3, 3) = -Mat3::Identity();
-  T.block<3, 3>(3, 6) = Mat3::Identity();
-  T(6, 9) = 1.0;
-  T(7, 10) = 1.0;
-  return T;
+// Chain rule from edge space to node space: e = x_c - x_p, f = x_q - x_c (spec 1.5).
+SpringVector nodeGradient(const EdgeVector& g) {
+  SpringVector out;
+  out.segment<3>(0) = -g.segment<3>(0);
+  out.segment<3>(3) = g.segment<3>(0) - g.segment<3>(3);
+  out.segment<3>(6) = g.segment<3>(3);
+  out(9) = g(6);
+  out(10) = g(7);
+  return out;
 }
 
-const Eigen::Matrix<double, 8, 11> kEdgeFromNodes = edgeFromNodes();
+// spec 1.5: H_pp = g_ee, H_pc = -g_ee + g_ef, H_pq = -g_ef, H_cc = g_ee - g_ef - g_fe + g_ff,
+// H_cq = g_ef - g_ff, H_qq = g_ff; theta columns map like the gradient.
+SpringMatrix nodeHessian(const EdgeMatrix& h) {
+  SpringMatrix out;
+  const Mat3 ee = h.block<3, 3>(0, 0), ef = h.block<3, 3>(0, 3), fe = h.block<3, 3>(3, 0),
+             ff = h.block<3, 3>(3, 3);
+  out.block<3, 3>(0, 0) = ee;
+  out.block<3, 3>(0, 3) = ef - ee;
+  out.block<3, 3>(0, 6) = -ef;
+  out.block<3, 3>(3, 0) = fe - ee;
+  out.block<3, 3>(3, 3) = ee - ef - fe + ff;
+  out.block<3, 3>(3, 6) = ef - ff;
+  out.block<3, 3>(6, 0) = -fe;
+  out.block<3, 3>(6, 3) = fe - ff;
+  out.block<3, 3>(6, 6) = ff;
+  for (int k = 0; k < 2; ++k) {
+    const Eigen::Matrix<double, 3, 1> e_th = h.block<3, 1>(0, 6 + k), f_th = h.block<3, 1>(3, 6 + k);
+    const Eigen::Matrix<double, 9, 1> col = (Eigen::Matrix<double, 9, 1>() << -e_th, e_th - f_th, f_th).finished();
+    out.block<9, 1>(0, 9 + k) = col;
+    out.block<1, 9>(9 + k, 0) = col.transpose();
+    out(9 + k, 9) = h(6 + k, 6);
+    out(9 + k, 10) = h(6 + k, 7);
+  }
+  return out;
+}
 
 Mat3 sym(const Vec3& a, const Vec3& b) { return a * b.transpose() + b * a.transpose(); }
 
@@ -136,14 +159,14 @@ SpringEnergyTerms bendTwistTerms(const SpringGeometry& g, const BendTwistSpring&
   const CurvatureDerivatives d = curvatureDerivatives(g, with_hessian);
   const EdgeVector grad_edge =
       bend_k * (dk1 * d.grad1 + dk2 * d.grad2) + twist_k * dtau * d.grad_tau;
-  out.gradient = kEdgeFromNodes.transpose() * grad_edge;
+  out.gradient = nodeGradient(grad_edge);
   if (with_hessian) {
     // spec 1.5: Hess E_b = (EI/l_c)(g1 g1^T + g2 g2^T + dk1 H1 + dk2 H2), likewise E_t
-    const EdgeMatrix hess_edge =
-        bend_k * (d.grad1 * d.grad1.transpose() + d.grad2 * d.grad2.transpose() +
-                  dk1 * d.hess1 + dk2 * d.hess2) +
-        twist_k * (d.grad_tau * d.grad_tau.transpose() + dtau * d.hess_tau);
-    out.hessian = kEdgeFromNodes.transpose() * hess_edge * kEdgeFromNodes;
+    EdgeMatrix hess_edge = bend_k * (dk1 * d.hess1 + dk2 * d.hess2) + twist_k * dtau * d.hess_tau;
+    hess_edge.noalias() += bend_k * d.grad1.lazyProduct(d.grad1.transpose());
+    hess_edge.noalias() += bend_k * d.grad2.lazyProduct(d.grad2.transpose());
+    hess_edge.noalias() += twist_k * d.grad_tau.lazyProduct(d.grad_tau.transpose());
+    out.hessian = nodeHessian(hess_edge);
   }
   return out;
 }

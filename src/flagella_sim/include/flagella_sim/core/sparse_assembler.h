@@ -18,18 +18,26 @@ class SparseAssembler {
   void resize(int size);
   /// Starts a pass: zeroes the values, rewinds the cursor.
   void begin();
-  /// Adds value at (row, col).
-  void add(int row, int col, double value);
+  /// Adds value at (row, col). Contributions arrive in the recorded order (callers guarantee a
+  /// value-independent sequence); the row/column check falls back to re-recording.
+  void add(int row, int col, double value) {
+    if (!recording_ && cursor_ < rows_.size() && rows_[cursor_] == row && cols_[cursor_] == col) {
+      values_ptr_[slot_[cursor_++]] += value;
+      return;
+    }
+    addSlow(row, col, value);
+  }
   /// Adds a dense 3x3 block at (row, col).
   void addBlock(int row, int col, const Mat3& block);
   /// Ends a pass and returns the assembled matrix.
-  const SparseMatrix& finish();
+  SparseMatrix& finish();
   /// True if the last finish() had to rebuild the pattern.
   bool patternChanged() const { return pattern_changed_; }
   int size() const { return size_; }
 
  private:
   void switchToRecording();
+  void addSlow(int row, int col, double value);
 
   int size_ = 0;
   bool recorded_ = false;
@@ -40,6 +48,7 @@ class SparseAssembler {
   std::vector<double> values_;
   std::vector<int> slot_;  // position in matrix_.valuePtr() of each contribution
   SparseMatrix matrix_;
+  double* values_ptr_ = nullptr;
 };
 
 }  // namespace flagella

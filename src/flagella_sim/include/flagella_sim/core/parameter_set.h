@@ -1,0 +1,49 @@
+// Named scalar parameters with allowed ranges. Effects and the medium declare theirs here so
+// configs, overrides and the identification tool all address the same numbers by name.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace flagella {
+
+/// Error in user input (config, override, command line): the message names the field and the
+/// allowed range.
+class ConfigError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+struct ParameterSpec {
+  std::string name;
+  double value = 0.0;
+  double min = 0.0;
+  double max = 0.0;
+  std::string unit;
+  std::string description;
+};
+
+class ParameterSet {
+ public:
+  /// Declares a parameter and returns its index; the default must lie in [min, max].
+  int declare(const std::string& name, double value, double min, double max,
+              const std::string& unit, const std::string& description);
+  double operator[](int index) const { return specs_[index].value; }
+  bool has(const std::string& name) const;
+  double get(const std::string& name) const;
+  /// Sets a value; throws ConfigError naming `context.name` and the range if out of range or
+  /// not finite. Never clamps.
+  void set(const std::string& name, double value, const std::string& context = "");
+  const std::vector<ParameterSpec>& specs() const { return specs_; }
+
+ private:
+  int indexOf(const std::string& name) const;
+  std::vector<ParameterSpec> specs_;
+};
+
+/// "name must be in [min, max] (unit), got value": the one wording every range error uses.
+std::string rangeMessage(const std::string& field, double value, double min, double max,
+                         const std::string& unit = "");
+
+}  // namespace flagella

@@ -1,0 +1,19 @@
+// Gravity minus buoyancy on every node's lumped mass: F_i = (1 - rho_m/rho_body) m_i g.
+// The Jacobian is zero because the forces are constant vectors (spec 5).
+#pragma once
+
+#include "flagella_sim/effects/effect.h"
+
+namespace flagella {
+
+class Gravity : public Effect {
+ public:
+  static constexpr const char* kName = "gravity";
+  explicit Gravity(double body_density);
+  void addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const override;
+
+ private:
+  int body_density_ = 0;
+};
+
+}  // namespace flagella

@@ -1,0 +1,37 @@
+// Resistive force theory on the tail nodes, granular or viscous (spec 2), with the exact
+// Jacobian (velocity and geometric parts) and an optional per-node viscosity from the
+// interface profile (spec 3.3).
+#pragma once
+
+#include <vector>
+
+#include "flagella_sim/effects/effect.h"
+#include "flagella_sim/effects/rft_coefficients.h"
+
+namespace flagella {
+
+class RftDrag : public Effect {
+ public:
+  static constexpr const char* kName = "rft";
+  explicit RftDrag(RftLogForm form, bool use_interface_profile = false);
+  void attach(const RodNetwork& net) override;
+  void addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const override;
+
+  RftLogForm logForm() const { return form_; }
+
+ private:
+  struct TailNode {
+    int node;
+    int prev;   ///< previous node along the tail, -1 at the root
+    int next;   ///< next node along the tail, -1 at the tip
+    double voronoi_length;
+    double tail_length;
+    double tail_radius;
+  };
+  RftLogForm form_;
+  bool use_profile_;
+  int drag_scale_ = 0;
+  std::vector<TailNode> nodes_;
+};
+
+}  // namespace flagella

@@ -1,0 +1,22 @@
+// Stokes-law drag and torque on the rigid head (spec 3.1):
+// F = -C_t 6 pi mu a v_h on x_1, M = -C_r 8 pi mu a^3 Omega_h on theta^0.
+#pragma once
+
+#include "flagella_sim/effects/effect.h"
+
+namespace flagella {
+
+class StokesHeadDrag : public Effect {
+ public:
+  static constexpr const char* kName = "stokes_head";
+  StokesHeadDrag(double C_t, double C_r, double head_radius);
+  void attach(const RodNetwork& net) override;
+  void addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const override;
+
+ private:
+  int c_t_ = 0, c_r_ = 0, radius_ = 0;
+  int node_ = 1;
+  int theta_dof_ = 0;
+};
+
+}  // namespace flagella

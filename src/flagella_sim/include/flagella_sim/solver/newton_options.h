@@ -1,0 +1,23 @@
+// Settings of the implicit Euler / Newton-Raphson step (spec 1.10).
+#pragma once
+
+namespace flagella {
+
+struct NewtonOptions {
+  /// Converged when max_i |f_i| / scale_i < residual_tolerance, with scale_i = force_scale for
+  /// position rows and moment_scale for twist rows (a scale-aware test, spec 1.10).
+  double residual_tolerance = 1e-6;
+  /// Also converged when the Newton update is this small relative to the length scale (rows
+  /// already at round-off level) and the residual is within 1e3 x tolerance.
+  double step_tolerance = 1e-12;
+  int max_iterations = 25;
+  /// On failure the step is split in two halves, recursively, up to this depth (2^depth pieces).
+  int max_subdivision_depth = 6;
+  double force_scale = 1.0;   ///< [N], e.g. EI/L^2 of a flexible tail
+  double moment_scale = 1.0;  ///< [N m], e.g. EI/L
+  double length_scale = 1.0;  ///< [m], e.g. tail length
+  /// Initial guess q(t_k) + dt qdot(t_k) (public group code) instead of q(t_k).
+  bool extrapolate_initial_guess = true;
+};
+
+}  // namespace flagella

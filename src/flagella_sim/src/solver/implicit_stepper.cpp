@@ -1,0 +1,179 @@
+#include "flagella_sim/solver/implicit_stepper.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "flagella_sim/elastic/bend_twist_energy.h"
+#include "flagella_sim/elastic/stretching_energy.h"
+#include "flagella_sim/rod/rod_kinematics.h"
+
+namespace flagella {
+
+namespace {
+
+// Routes effect Jacobian entries dF/dq into the Newton Jacobian as -dF/dq (spec 1.10).
+class NegatingSink : public JacobianSink {
+ public:
+  explicit NegatingSink(SparseAssembler& a) : assembler_(a) {}
+  void add(int row, int col, double value) override { assembler_.add(row, col, -value); }
+
+ private:
+  SparseAssembler& assembler_;
+};
+
+}  // namespace
+
+ImplicitStepper::ImplicitStepper(RodNetwork net, std::vector<EffectPtr> effects, Medium medium,
+                                 NewtonOptions options)
+    : net_(std::move(net)),
+      effects_(std::move(effects)),
+      medium_(std::move(medium)),
+      options_(options),
+      assembler_(net_.ndof()) {
+  if (net_.parts.motor_spring >= 0)
+    motor_tau_bar0_ = net_.bend_twist_springs.at(net_.parts.motor_spring).tau_bar;
+  for (bool fixed : net_.fixed_dof) any_fixed_ = any_fixed_ || fixed;
+  for (const EffectPtr& e : effects_) e->attach(net_);
+}
+
+Effect* ImplicitStepper::findEffect(const std::string& name) const {
+  for (const EffectPtr& e : effects_)
+    if (e->name() == name) return e.get();
+  return nullptr;
+}
+
+RodState ImplicitStepper::initialState() const {
+  RodState s;
+  s.time = 0.0;
+  s.q = net_.restDofs();
+  s.qdot = VecX::Zero(net_.ndof());
+  s.frames = initialFrames(net_, s.q);
+  s.motor_twist_offset = 0.0;
+  return s;
+}
+
+double ImplicitStepper::scaledResidual(const VecX& f) const {
+  const int npos = 3 * net_.numNodes();
+  const double force = f.head(npos).cwiseAbs().maxCoeff() / options_.force_scale;
+  const double moment =
+      net_.numEdges() > 0 ? f.tail(net_.numEdges()).cwiseAbs().maxCoeff() / options_.moment_scale : 0.0;
+  return std::max(force, moment);
+}
+
+void ImplicitStepper::applyFixedDofs(SparseMatrix& J, VecX& f) const {
+  // Dirichlet DOFs: zero row and column, unit diagonal, zero residual (spec 1.10).
+  for (int col = 0; col < J.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(J, col); it; ++it)
+      if (net_.fixed_dof[it.row()] || net_.fixed_dof[col]) it.valueRef() = it.row() == col ? 1.0 : 0.0;
+  for (int i = 0; i < f.size(); ++i)
+    if (net_.fixed_dof[i]) f(i) = 0.0;
+}
+
+ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, double motor_offset) {
+  Attempt attempt;
+  if (net_.parts.motor_spring >= 0)
+    net_.bend_twist_springs[net_.parts.motor_spring].tau_bar = motor_tau_bar0_ + motor_offset;
+  const VecX& q0 = state.q;
+  const VecX& v0 = state.qdot;
+  VecX q = options_.extrapolate_initial_guess ? VecX(q0 + dt * v0) : q0;
+  for (int i = 0; i < q.size(); ++i)
+    if (net_.fixed_dof[i]) q(i) = q0(i);
+  const VecX inertia_coeff = net_.lumped_mass / (dt * dt);
+  VecX f(net_.ndof());
+  NegatingSink sink(assembler_);
+  for (int iter = 0; iter <= options_.max_iterations; ++iter) {
+    const ReferenceFrames frames = transportFrames(net_, q, state.frames);
+    // spec 1.10: f = (m/dt)((q - q_k)/dt - qdot_k) + dE/dq - F_ext
+    f = inertia_coeff.cwiseProduct(q - q0 - dt * v0);
+    assembler_.begin();
+    for (int i = 0; i < net_.ndof(); ++i) assembler_.add(i, i, inertia_coeff(i));
+    addStretchingGradientHessian(net_, q, f, &assembler_);
+    addBendTwistGradientHessian(net_, q, frames, f, &assembler_);
+    VecX external = VecX::Zero(net_.ndof());
+    const EffectContext ctx{net_, q, frames, q0, v0, dt, state.time + dt, medium_};
+    for (const EffectPtr& e : effects_) e->addForce(ctx, external, &sink);
+    f -= external;
+    SparseMatrix& J = assembler_.finish();
+    if (any_fixed_) applyFixedDofs(J, f);
+    if (!f.allFinite()) return attempt;
+    attempt.residual = scaledResidual(f);
+    attempt.iterations = iter;
+    if (attempt.residual < options_.residual_tolerance) {
+      attempt.converged = true;
+      state.qdot = (q - q0) / dt;
+      state.q = q;
+      state.frames = frames;
+      return attempt;
+    }
+    if (iter == options_.max_iterations) return attempt;
+    if (!analyzed_ || assembler_.patternChanged()) {
+      lu_.analyze(J);
+      analyzed_ = true;
+      ++analyses_;
+    }
+    ++factorizations_;
+    if (!lu_.factorize(J)) return attempt;
+    const VecX dq = lu_.solve(f);
+    if (!dq.allFinite()) return attempt;
+    q -= dq;
+    const int npos = 3 * net_.numNodes();
+    const double step = std::max(dq.head(npos).cwiseAbs().maxCoeff() / options_.length_scale,
+                                 net_.numEdges() ? dq.tail(net_.numEdges()).cwiseAbs().maxCoeff() : 0.0);
+    if (step < options_.step_tolerance && attempt.residual < 1e3 * options_.residual_tolerance) {
+      // The update is at round-off level: accept (documented in NewtonOptions).
+      attempt.converged = true;
+      attempt.iterations = iter + 1;
+      state.qdot = (q - q0) / dt;
+      state.q = q;
+      state.frames = transportFrames(net_, q, state.frames);
+      return attempt;
+    }
+  }
+  return attempt;
+}
+
+StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, const MotorCommand& motor,
+                                          int depth) {
+  RodState trial = state;
+  // spec 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
+  const double omega = motor.omega(state.time + dt);
+  if (!std::isfinite(omega)) throw SolverFailure("motor command is not finite at t = " + std::to_string(state.time + dt));
+  const double offset = state.motor_twist_offset + omega * dt;
+  const Attempt a = solveStep(trial, dt, offset);
+  if (a.converged) {
+    trial.time = state.time + dt;
+    trial.motor_twist_offset = offset;
+    state = std::move(trial);
+    return {a.iterations, 1, a.residual};
+  }
+  if (depth >= options_.max_subdivision_depth) {
+    std::ostringstream msg;
+    msg << "Newton did not converge at t = " << state.time << " s with dt = " << dt
+        << " s after " << depth << " subdivisions (scaled residual " << a.residual
+        << ", tolerance " << options_.residual_tolerance << ")";
+    throw SolverFailure(msg.str());
+  }
+  RodState half = state;
+  StepReport first = stepRecursive(half, 0.5 * dt, motor, depth + 1);
+  StepReport second = stepRecursive(half, 0.5 * dt, motor, depth + 1);
+  state = std::move(half);
+  return {a.iterations + first.newton_iterations + second.newton_iterations,
+          first.substeps + second.substeps, second.residual};
+}
+
+StepReport ImplicitStepper::step(RodState& state, double dt, const MotorCommand& motor) {
+  if (!(dt > 0.0) || !std::isfinite(dt)) throw SolverFailure("time step must be > 0 and finite");
+  RodState working = state;
+  StepReport report = stepRecursive(working, dt, motor, 0);
+  state = std::move(working);
+  return report;
+}
+
+VecX ImplicitStepper::externalForce(const RodState& state, const RodState& previous, double dt) const {
+  VecX external = VecX::Zero(net_.ndof());
+  const EffectContext ctx{net_, state.q, state.frames, previous.q, previous.qdot, dt, state.time, medium_};
+  for (const EffectPtr& e : effects_) e->addForce(ctx, external, nullptr);
+  return external;
+}
+
+}  // namespace flagella
