@@ -1,1 +1,108 @@
-int main(){return 0;}
+// flagella_run: headless runner of the rod-network simulator (run, sweep, beam, params).
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/solver/implicit_stepper.h"
+#include "run_commands.h"
+
+using namespace flagella::cli;
+
+namespace {
+
+void addCommon(CLI::App* app, CommonOptions& o) {
+  app->add_option("config", o.config, "robot/run config (YAML), e.g. config/granular_design1.yaml")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app->add_option("--set", o.overrides, "override a config field: section.field=value (repeatable)");
+  app->add_option("--out", o.out_dir, "output directory")->capture_default_str();
+  app->add_flag("--quiet", o.quiet, "no progress output");
+}
+
+// Convenience flags that become overrides.
+struct Shortcuts {
+  double omega_rpm = 0, tail_length = 0, dt = 0, duration = 0;
+  int n_tails = 0;
+  void add(CLI::App* app, bool with_n = true, bool with_omega = true) {
+    if (with_omega) app->add_option("--omega-rpm", omega_rpm, "motor speed omega_T [rpm]");
+    if (with_n) app->add_option("--n-tails", n_tails, "number of tails");
+    app->add_option("--tail-length", tail_length, "tail length [m]");
+    app->add_option("--dt", dt, "time step [s]");
+    app->add_option("--duration", duration, "simulated time [s]");
+  }
+  void apply(CLI::App* app, std::vector<std::string>& ov) const {
+    auto given = [&](const char* name) { return app->get_option_no_throw(name) && app->count(name) > 0; };
+    if (given("--omega-rpm")) ov.push_back("motor.omega_rpm=" + std::to_string(omega_rpm));
+    if (given("--n-tails")) ov.push_back("robot.n_tails=" + std::to_string(n_tails));
+    if (given("--tail-length")) ov.push_back("robot.tail_length=" + std::to_string(tail_length));
+    if (given("--dt")) ov.push_back("simulation.dt=" + std::to_string(dt));
+    if (given("--duration")) ov.push_back("simulation.duration=" + std::to_string(duration));
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"flagella_run: simulate soft flagellated robots (discrete elastic rod networks)"};
+  app.require_subcommand(1);
+
+  RunOptions run;
+  Shortcuts run_short;
+  CLI::App* run_cmd = app.add_subcommand("run", "simulate one config; write timeseries.csv and summary.json");
+  addCommon(run_cmd, run);
+  run_short.add(run_cmd);
+  run_cmd->add_flag("--nodes", run.nodes, "also write all node positions to nodes.csv");
+
+  SweepOptions sweep;
+  Shortcuts sweep_short;
+  CLI::App* sweep_cmd = app.add_subcommand("sweep", "sweep omega_T and n; write sweep.csv and sweep.png");
+  addCommon(sweep_cmd, sweep);
+  sweep_short.add(sweep_cmd, false, false);
+  sweep_cmd->add_option("--omega-rpm", sweep.omega_rpm, "motor speeds [rpm]")->delimiter(',')->required();
+  sweep_cmd->add_option("--n-tails", sweep.n_tails, "tail counts")->delimiter(',')->required();
+  sweep_cmd->add_option("--jobs", sweep.jobs, "parallel runs")->capture_default_str();
+  sweep.plot_script = FLAGELLA_PLOT_SCRIPT;
+  sweep_cmd->add_option("--plot-script", sweep.plot_script, "matplotlib plot script ('' to skip)")->capture_default_str();
+
+  BeamOptions beam;
+  Shortcuts beam_short;
+  CLI::App* beam_cmd = app.add_subcommand("beam", "Euler-Bernoulli beam model (spec 6) for a config's design");
+  addCommon(beam_cmd, beam);
+  beam_short.add(beam_cmd);
+  beam_cmd->add_option("--regime", beam.regime, "LB | NLB | NLB-no-head | all")
+      ->check(CLI::IsMember({"LB", "NLB", "NLB-no-head", "all"}))
+      ->capture_default_str();
+  beam_cmd->add_flag("--compare-rod", beam.compare_rod, "also run the rod model on the same design");
+
+  CommonOptions params;
+  CLI::App* params_cmd = app.add_subcommand("params", "list the named parameters of a config");
+  addCommon(params_cmd, params);
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (*run_cmd) {
+      run_short.apply(run_cmd, run.overrides);
+      return runCommand(run);
+    }
+    if (*sweep_cmd) {
+      sweep_short.apply(sweep_cmd, sweep.overrides);
+      return sweepCommand(sweep);
+    }
+    if (*beam_cmd) {
+      beam_short.apply(beam_cmd, beam.overrides);
+      return beamCommand(beam);
+    }
+    if (*params_cmd) return paramsCommand(params);
+  } catch (const flagella::ConfigError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const flagella::SolverFailure& e) {
+    std::cerr << "error: solver failure: " << e.what() << "\n";
+    return 3;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,239 @@
+#include "run_commands.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "flagella_sim/beam/euler_bernoulli_beam.h"
+#include "flagella_sim/outputs/output_writers.h"
+#include "flagella_sim/simulation/simulation.h"
+
+namespace flagella::cli {
+
+namespace {
+
+constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);
+constexpr double kRpmToRadPerSec = 2.0 * M_PI / 60.0;
+constexpr double kProgressPeriodSeconds = 2.0;
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Prints "[ 42%] t = 84.0 / 200 s, 31x real time, ETA 4 s" at most every few seconds.
+class ProgressPrinter {
+ public:
+  ProgressPrinter(double duration, bool quiet) : duration_(duration), quiet_(quiet), start_(Clock::now()) {}
+  void operator()(double fraction) {
+    if (quiet_) return;
+    const double wall = secondsSince(start_);
+    if (wall - last_ < kProgressPeriodSeconds && fraction < 1.0) return;
+    last_ = wall;
+    const double rtf = wall > 0 ? fraction * duration_ / wall : 0.0;
+    const double eta = fraction > 0 ? wall * (1.0 - fraction) / fraction : 0.0;
+    std::fprintf(stderr, "[%3.0f%%] t = %.1f / %.1f s, %.0fx real time, ETA %.0f s\n", 100 * fraction,
+                 fraction * duration_, duration_, rtf, eta);
+  }
+
+ private:
+  double duration_;
+  bool quiet_;
+  Clock::time_point start_;
+  double last_ = 0.0;
+};
+
+void printSummary(const SimulationConfig& c, const SummaryMetrics& m, std::ostream& out) {
+  char buf[1024];
+  std::snprintf(buf, sizeof(buf),
+                "summary (%s, n = %d, omega_T = %.2f rpm, steady window %.1f-%.1f s)\n"
+                "  omega_h = %.4f rpm (%.5f rad/s)\n"
+                "  omega_t = %.4f rpm (%.5f rad/s)\n"
+                "  v       = %.5f mm/s (forward, along the initial head axis)\n"
+                "  yaw rate = %.5f rad/s, circle radius = %s\n"
+                "  efficiency = %s\n"
+                "  Newton iterations = %ld, subdivided steps = %ld\n",
+                c.source.c_str(), c.geometry.n_tails, c.motor.omega * kRadPerSecToRpm, m.window_start,
+                m.window_end, m.omega_h * kRadPerSecToRpm, m.omega_h, m.omega_t * kRadPerSecToRpm,
+                m.omega_t, m.speed * 1e3, m.yaw_rate,
+                m.circle_valid ? (std::to_string(m.circle_radius * 1e3) + " mm").c_str() : "n/a",
+                m.efficiency_valid ? std::to_string(m.efficiency).c_str() : "n/a",
+                m.newton_iterations, m.subdivided_steps);
+  out << buf;
+}
+
+struct RunResult {
+  SummaryMetrics summary;
+  double wall = 0.0;
+  bool failed = false;
+  std::string error;
+};
+
+RunResult simulate(const SimulationConfig& config, Simulation& sim, bool quiet) {
+  RunResult r;
+  ProgressPrinter progress(config.duration, quiet);
+  const Clock::time_point t0 = Clock::now();
+  try {
+    sim.run(config.duration, std::ref(progress));
+  } catch (const SolverFailure& e) {
+    r.failed = true;
+    r.error = e.what();
+  }
+  r.wall = secondsSince(t0);
+  r.summary = sim.summary();
+  return r;
+}
+
+}  // namespace
+
+int runCommand(const RunOptions& o) {
+  const SimulationConfig config = loadSimulationConfig(o.config, o.overrides);
+  std::filesystem::create_directories(o.out_dir);
+  Simulation sim(config);
+  sim.setRecordNodes(o.nodes);
+  if (!o.quiet)
+    std::fprintf(stderr, "running %s: %d nodes, %d DOFs, dt = %g s, %g s simulated\n", o.config.c_str(),
+                 sim.network().numNodes(), sim.network().ndof(), config.dt, config.duration);
+  const RunResult r = simulate(config, sim, o.quiet);
+  writeTrajectoryCsv(o.out_dir + "/timeseries.csv", sim.trajectory());
+  if (o.nodes) writeNodesCsv(o.out_dir + "/nodes.csv", sim.trajectory());
+  writeText(o.out_dir + "/summary.json", summaryJson(config, r.summary, r.wall));
+  printSummary(config, r.summary, std::cout);
+  std::printf("  wall time %.2f s, %.1fx real time; outputs in %s/\n", r.wall,
+              r.wall > 0 ? sim.time() / r.wall : 0.0, o.out_dir.c_str());
+  if (r.failed) {
+    std::fprintf(stderr, "error: solver failure, outputs hold the run up to t = %.3f s: %s\n", sim.time(),
+                 r.error.c_str());
+    return 3;
+  }
+  return 0;
+}
+
+int sweepCommand(const SweepOptions& o) {
+  struct Case {
+    int n;
+    double rpm;
+    RunResult result;
+  };
+  std::vector<Case> cases;
+  for (int n : o.n_tails)
+    for (double rpm : o.omega_rpm) cases.push_back({n, rpm, {}});
+  std::filesystem::create_directories(o.out_dir);
+  std::mutex mutex;
+  size_t next = 0, done = 0;
+  auto worker = [&]() {
+    for (;;) {
+      size_t i;
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (next >= cases.size()) return;
+        i = next++;
+      }
+      std::vector<std::string> overrides = o.overrides;
+      overrides.push_back("robot.n_tails=" + std::to_string(cases[i].n));
+      overrides.push_back("motor.omega_rpm=" + std::to_string(cases[i].rpm));
+      const SimulationConfig config = loadSimulationConfig(o.config, overrides);
+      Simulation sim(config);
+      cases[i].result = simulate(config, sim, true);
+      std::lock_guard<std::mutex> lock(mutex);
+      ++done;
+      if (!o.quiet)
+        std::fprintf(stderr, "[%zu/%zu] n = %d, omega_T = %g rpm: v = %.4f mm/s, omega_h = %.2f rpm (%.1f s)%s\n",
+                     done, cases.size(), cases[i].n, cases[i].rpm, cases[i].result.summary.speed * 1e3,
+                     cases[i].result.summary.omega_h * kRadPerSecToRpm, cases[i].result.wall,
+                     cases[i].result.failed ? " SOLVER FAILURE" : "");
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int j = 0; j < std::max(1, o.jobs); ++j) threads.emplace_back(worker);
+  for (std::thread& t : threads) t.join();
+
+  const std::string table = o.out_dir + "/sweep.csv";
+  std::ofstream out(table);
+  out << "n_tails,omega_T_rpm,omega_h_rpm,omega_t_rpm,speed_mm_s,yaw_rate_rad_s,efficiency,solver_failure\n";
+  for (const Case& c : cases) {
+    const SummaryMetrics& m = c.result.summary;
+    out << c.n << "," << c.rpm << "," << m.omega_h * kRadPerSecToRpm << "," << m.omega_t * kRadPerSecToRpm
+        << "," << m.speed * 1e3 << "," << m.yaw_rate << ","
+        << (m.efficiency_valid ? std::to_string(m.efficiency) : "") << "," << (c.result.failed ? 1 : 0) << "\n";
+  }
+  out.close();
+  std::printf("sweep table: %s\n", table.c_str());
+  if (!o.plot_script.empty()) {
+    const std::string png = o.out_dir + "/sweep.png";
+    const std::string cmd = "/usr/bin/python3 '" + o.plot_script + "' '" + table + "' '" + png + "'";
+    if (std::system(cmd.c_str()) == 0)
+      std::printf("sweep plot: %s\n", png.c_str());
+    else
+      std::fprintf(stderr, "warning: plotting failed (%s)\n", cmd.c_str());
+  }
+  for (const Case& c : cases)
+    if (c.result.failed) return 3;
+  return 0;
+}
+
+int beamCommand(const BeamOptions& o) {
+  const SimulationConfig c = loadSimulationConfig(o.config, o.overrides);
+  beam::BeamDesign d;
+  d.n_tails = c.geometry.n_tails;
+  d.tail_length = c.geometry.tail_length;
+  d.tail_radius = c.geometry.tail_material.radius;
+  d.youngs_modulus = c.geometry.tail_material.youngs_modulus;
+  d.disc_radius = c.geometry.disc_radius;
+  d.head_radius = c.head_radius;
+  d.viscosity = c.medium.viscosity();
+  d.log_form = RftLogForm::kTwoLengthOverRadius;
+  d.C_t = d.C_r = 0.0;
+  for (const EffectSpec& e : c.effects) {
+    if (e.name == "rft") d.log_form = parseRftLogForm(e.log_form);
+    if (e.name == "stokes_head")
+      for (const auto& [name, value] : e.parameters) {
+        if (name == "C_t") d.C_t = value;
+        if (name == "C_r") d.C_r = value;
+      }
+  }
+  const double omega = std::abs(c.motor.omega);
+  std::vector<beam::BeamRegime> regimes;
+  if (o.regime == "LB" || o.regime == "all") regimes.push_back(beam::BeamRegime::kLinear);
+  if (o.regime == "NLB" || o.regime == "all") regimes.push_back(beam::BeamRegime::kNonlinear);
+  if (o.regime == "NLB-no-head" || o.regime == "all") regimes.push_back(beam::BeamRegime::kNonlinearWithoutHead);
+  std::printf("beam model (spec 6), %s, n = %d, omega_T = %.3f rpm\n", o.config.c_str(), d.n_tails,
+              omega * kRadPerSecToRpm);
+  std::printf("%-14s %12s %12s %14s %12s %14s\n", "model", "omega_h rpm", "omega_t rpm", "v mm/s",
+              "w(L)/L", "F_p/tail N");
+  for (beam::BeamRegime regime : regimes) {
+    const beam::BeamSolution s = beam::solveBeamModel(d, omega, regime);
+    std::printf("%-14s %12.5f %12.5f %14.6g %12.5f %14.6g%s\n", beam::toString(regime).c_str(),
+                s.omega_h * kRadPerSecToRpm, s.omega_t * kRadPerSecToRpm, s.speed * 1e3,
+                s.relative_tip_deflection, s.propulsive_force, s.converged ? "" : "  (not converged)");
+  }
+  if (o.compare_rod) {
+    Simulation sim(c);
+    const RunResult r = simulate(c, sim, o.quiet);
+    const SummaryMetrics& m = r.summary;
+    const double propulsive = d.C_t * 6.0 * M_PI * d.viscosity * d.head_radius * m.speed / d.n_tails;
+    std::printf("%-14s %12.5f %12.5f %14.6g %12s %14.6g\n", "rod (DER)", m.omega_h * kRadPerSecToRpm,
+                m.omega_t * kRadPerSecToRpm, m.speed * 1e3, "-", propulsive);
+    if (r.failed) return 3;
+  }
+  return 0;
+}
+
+int paramsCommand(const CommonOptions& o) {
+  const SimulationConfig c = loadSimulationConfig(o.config, o.overrides);
+  Simulation sim(c);
+  std::printf("%-45s %14s %14s %14s  %s\n", "parameter", "value", "min", "max", "unit");
+  for (const std::string& name : sim.parameterNames()) {
+    std::printf("%-45s %14.6g\n", name.c_str(), sim.parameter(name));
+  }
+  return 0;
+}
+
+}  // namespace flagella::cli

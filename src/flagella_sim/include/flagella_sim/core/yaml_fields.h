@@ -1,0 +1,51 @@
+// Strict reading of YAML maps: every field is declared with its allowed range, unknown fields
+// are errors, and every message names the full dotted field path.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <set>
+#include <string>
+#include <vector>
+
+#include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/core/types.h"
+
+namespace flagella {
+
+class FieldReader {
+ public:
+  /// `node` must be a map or absent; `path` is its dotted name ("robot", "effects.rft").
+  FieldReader(const YAML::Node& node, std::string path);
+
+  bool has(const std::string& key) const;
+  double number(const std::string& key, double fallback, double min, double max,
+                const std::string& unit = "");
+  double requiredNumber(const std::string& key, double min, double max, const std::string& unit = "");
+  int integer(const std::string& key, int fallback, int min, int max);
+  bool flag(const std::string& key, bool fallback);
+  std::string choice(const std::string& key, const std::string& fallback,
+                     const std::vector<std::string>& allowed);
+  Vec3 vector3(const std::string& key, const Vec3& fallback);
+  std::vector<double> numberList(const std::string& key, double min, double max);
+  FieldReader child(const std::string& key);
+  /// Keys of the map (for maps whose keys are names, e.g. the effects list).
+  std::vector<std::string> keys() const;
+  const std::string& path() const { return path_; }
+  std::string field(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+  /// Throws ConfigError if the map holds a key nothing asked for.
+  void rejectUnknown() const;
+
+ private:
+  YAML::Node get(const std::string& key);
+  YAML::Node node_;
+  std::string path_;
+  std::set<std::string> used_;
+};
+
+/// Sets the value at a dotted path ("robot.n_tails") in a YAML tree from a string, creating
+/// intermediate maps; the value is parsed as YAML (numbers, lists, strings).
+void applyOverride(YAML::Node& root, const std::string& assignment);
+
+}  // namespace flagella

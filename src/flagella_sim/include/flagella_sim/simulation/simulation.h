@@ -1,0 +1,68 @@
+// A configured run: robot + medium + effects + motor + stepper, with sampled outputs.
+// The one object the CLI, the benchmarks, the ROS node and the identification tool drive.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "flagella_sim/actuation/motor_command.h"
+#include "flagella_sim/outputs/trajectory.h"
+#include "flagella_sim/simulation/simulation_config.h"
+#include "flagella_sim/solver/implicit_stepper.h"
+
+namespace flagella {
+
+class Simulation {
+ public:
+  explicit Simulation(const SimulationConfig& config);
+
+  /// Replaces the motor command source (controllers plug in here).
+  void setMotor(std::shared_ptr<const MotorCommand> motor) { motor_ = std::move(motor); }
+  const MotorCommand& motor() const { return *motor_; }
+
+  /// One step of config().dt. Throws SolverFailure (state unchanged) if Newton cannot recover.
+  StepReport step();
+  /// Runs until `duration` more seconds have elapsed, sampling every output_interval.
+  /// `progress(fraction)` is called after every sample if given.
+  void run(double duration, const std::function<void(double)>& progress = {});
+
+  /// Appends a sample of the current state to the trajectory.
+  void recordSample();
+  TrajectorySample sample() const;
+  const std::vector<TrajectorySample>& trajectory() const { return trajectory_; }
+  SummaryMetrics summary() const;
+  void setRecordNodes(bool on) { record_nodes_ = on; }
+
+  /// Named parameters: "medium.viscosity", "effects.stokes_head.C_t", ...
+  double parameter(const std::string& name) const;
+  void setParameter(const std::string& name, double value);
+  std::vector<std::string> parameterNames() const;
+
+  const RodState& state() const { return state_; }
+  const SimulationConfig& config() const { return config_; }
+  const ImplicitStepper& stepper() const { return stepper_; }
+  const RodNetwork& network() const { return stepper_.network(); }
+  double time() const { return state_.time; }
+  double lastMotorCommand() const { return last_omega_; }
+
+ private:
+  ParameterSet& parameterOwner(const std::string& name, std::string& local) const;
+
+  SimulationConfig config_;
+  ImplicitStepper stepper_;
+  std::shared_ptr<const MotorCommand> motor_;
+  RodState state_;
+  std::vector<TrajectorySample> trajectory_;
+  bool record_nodes_ = false;
+  double next_sample_time_ = 0.0;
+  double last_omega_ = 0.0;
+  long newton_iterations_ = 0;
+  long subdivided_steps_ = 0;
+};
+
+/// The motor command a MotorSpec describes.
+std::shared_ptr<const MotorCommand> makeMotor(const MotorSpec& spec);
+
+}  // namespace flagella

@@ -1,0 +1,161 @@
+#include "flagella_sim/core/yaml_fields.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace flagella {
+
+namespace {
+std::string joinNames(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+std::string where(const YAML::Node& node) {
+  const YAML::Mark m = node.Mark();
+  if (m.line < 0) return "";
+  return " (line " + std::to_string(m.line + 1) + ", column " + std::to_string(m.column + 1) + ")";
+}
+}  // namespace
+
+FieldReader::FieldReader(const YAML::Node& node, std::string path) : node_(node), path_(std::move(path)) {
+  if (node_ && !node_.IsNull() && !node_.IsMap())
+    throw ConfigError(path_ + " must be a map of fields" + where(node_));
+}
+
+bool FieldReader::has(const std::string& key) const {
+  return node_ && node_.IsMap() && node_[key] && !node_[key].IsNull();
+}
+
+YAML::Node FieldReader::get(const std::string& key) {
+  used_.insert(key);
+  if (!node_ || !node_.IsMap()) return YAML::Node();
+  return node_[key];
+}
+
+double FieldReader::number(const std::string& key, double fallback, double min, double max,
+                           const std::string& unit) {
+  const YAML::Node v = get(key);
+  if (!v || v.IsNull()) return fallback;
+  double value = 0.0;
+  try {
+    value = v.as<double>();
+  } catch (const YAML::Exception&) {
+    throw ConfigError(field(key) + " must be a number" + where(v));
+  }
+  if (!std::isfinite(value) || value < min || value > max)
+    throw ConfigError(rangeMessage(field(key), value, min, max, unit) + where(v));
+  return value;
+}
+
+double FieldReader::requiredNumber(const std::string& key, double min, double max, const std::string& unit) {
+  if (!has(key)) throw ConfigError(field(key) + " is required (allowed range [" + std::to_string(min) + ", " + std::to_string(max) + "] " + unit + ")");
+  return number(key, 0.0, min, max, unit);
+}
+
+int FieldReader::integer(const std::string& key, int fallback, int min, int max) {
+  const YAML::Node v = get(key);
+  if (!v || v.IsNull()) return fallback;
+  int value = 0;
+  try {
+    value = v.as<int>();
+  } catch (const YAML::Exception&) {
+    throw ConfigError(field(key) + " must be an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]" + where(v));
+  }
+  if (value < min || value > max) throw ConfigError(rangeMessage(field(key), value, min, max) + where(v));
+  return value;
+}
+
+bool FieldReader::flag(const std::string& key, bool fallback) {
+  const YAML::Node v = get(key);
+  if (!v || v.IsNull()) return fallback;
+  try {
+    return v.as<bool>();
+  } catch (const YAML::Exception&) {
+    throw ConfigError(field(key) + " must be true or false" + where(v));
+  }
+}
+
+std::string FieldReader::choice(const std::string& key, const std::string& fallback,
+                                const std::vector<std::string>& allowed) {
+  const YAML::Node v = get(key);
+  if (!v || v.IsNull()) return fallback;
+  const std::string value = v.as<std::string>();
+  for (const std::string& a : allowed)
+    if (a == value) return value;
+  throw ConfigError(field(key) + " must be one of: " + joinNames(allowed) + "; got '" + value + "'" + where(v));
+}
+
+Vec3 FieldReader::vector3(const std::string& key, const Vec3& fallback) {
+  const YAML::Node v = get(key);
+  if (!v || v.IsNull()) return fallback;
+  if (!v.IsSequence() || v.size() != 3) throw ConfigError(field(key) + " must be a list of 3 numbers" + where(v));
+  Vec3 out;
+  for (int i = 0; i < 3; ++i) {
+    out(i) = v[i].as<double>();
+    if (!std::isfinite(out(i))) throw ConfigError(field(key) + " must hold finite numbers" + where(v));
+  }
+  return out;
+}
+
+std::vector<double> FieldReader::numberList(const std::string& key, double min, double max) {
+  const YAML::Node v = get(key);
+  std::vector<double> out;
+  if (!v || v.IsNull()) return out;
+  if (!v.IsSequence()) throw ConfigError(field(key) + " must be a list of numbers" + where(v));
+  for (size_t i = 0; i < v.size(); ++i) {
+    const double x = v[i].as<double>();
+    if (!std::isfinite(x) || x < min || x > max)
+      throw ConfigError(rangeMessage(field(key) + "[" + std::to_string(i) + "]", x, min, max) + where(v));
+    out.push_back(x);
+  }
+  return out;
+}
+
+FieldReader FieldReader::child(const std::string& key) { return FieldReader(get(key), field(key)); }
+
+std::vector<std::string> FieldReader::keys() const {
+  std::vector<std::string> out;
+  if (!node_ || !node_.IsMap()) return out;
+  for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
+  return out;
+}
+
+void FieldReader::rejectUnknown() const {
+  if (!node_ || !node_.IsMap()) return;
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.as<std::string>();
+    if (!used_.count(key)) {
+      std::vector<std::string> allowed(used_.begin(), used_.end());
+      throw ConfigError("unknown field '" + field(key) + "'" + where(kv.first) + " (allowed: " + joinNames(allowed) + ")");
+    }
+  }
+}
+
+void applyOverride(YAML::Node& root, const std::string& assignment) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw ConfigError("override '" + assignment + "' must look like section.field=value");
+  const std::string path = assignment.substr(0, eq);
+  YAML::Node value;
+  try {
+    value = YAML::Load(assignment.substr(eq + 1));
+  } catch (const YAML::Exception& e) {
+    throw ConfigError("override '" + assignment + "': cannot parse the value");
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  // yaml-cpp nodes are handles: walk down with fresh handles, never reassign an existing one.
+  std::vector<YAML::Node> chain{root};
+  for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    YAML::Node next = chain.back()[parts[i]];
+    if (next && !next.IsNull() && !next.IsMap())
+      throw ConfigError("override '" + assignment + "': " + parts[i] + " is not a section");
+    chain.push_back(next);
+  }
+  chain.back()[parts.back()] = value;
+}
+
+}  // namespace flagella

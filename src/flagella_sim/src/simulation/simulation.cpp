@@ -1,0 +1,144 @@
+#include "flagella_sim/simulation/simulation.h"
+
+#include <cmath>
+
+#include "flagella_sim/outputs/fits.h"
+#include "flagella_sim/rod/rod_kinematics.h"
+#include "flagella_sim/simulation/effect_factory.h"
+
+namespace flagella {
+
+namespace {
+
+std::vector<EffectPtr> makeEffects(const SimulationConfig& c) {
+  std::vector<EffectPtr> effects;
+  for (const EffectSpec& spec : c.effects) effects.push_back(makeEffect(spec, c));
+  return effects;
+}
+
+// Sample times are compared with this slack so round-off never skips a sample.
+constexpr double kSampleTimeSlack = 1e-9;
+
+}  // namespace
+
+std::shared_ptr<const MotorCommand> makeMotor(const MotorSpec& spec) {
+  std::shared_ptr<const MotorCommand> motor;
+  if (spec.mode == "binary")
+    motor = std::make_shared<BinaryMotor>(spec.omega, spec.positive_duration, spec.negative_duration);
+  else
+    motor = std::make_shared<ConstantMotor>(spec.omega);
+  if (spec.ramp_time > 0.0) motor = std::make_shared<RampedMotor>(motor, spec.ramp_time);
+  return motor;
+}
+
+Simulation::Simulation(const SimulationConfig& config)
+    : config_(config),
+      stepper_(buildMultiTailRobot(config.geometry), makeEffects(config), config.medium, config.solver),
+      motor_(makeMotor(config.motor)),
+      state_(stepper_.initialState()) {
+  recordSample();
+}
+
+StepReport Simulation::step() {
+  const StepReport r = stepper_.step(state_, config_.dt, *motor_);
+  last_omega_ = motor_->omega(state_.time);
+  newton_iterations_ += r.newton_iterations;
+  subdivided_steps_ += r.substeps > 1;
+  return r;
+}
+
+void Simulation::run(double duration, const std::function<void(double)>& progress) {
+  const double t_start = state_.time;
+  const long steps = std::lround(duration / config_.dt);
+  for (long k = 0; k < steps; ++k) {
+    step();
+    if (state_.time + kSampleTimeSlack >= next_sample_time_) {
+      recordSample();
+      if (progress) progress((state_.time - t_start) / duration);
+    }
+  }
+}
+
+TrajectorySample Simulation::sample() const {
+  const RodNetwork& net = network();
+  const RobotParts& parts = net.parts;
+  TrajectorySample s;
+  s.time = state_.time;
+  s.head_position = nodePosition(state_.q, parts.head_center_node);
+  s.head_velocity = state_.qdot.segment<3>(3 * parts.head_center_node);
+  const Vec3 axis = state_.frames.tangent[parts.head_edge];
+  s.head_axis = axis;
+  const Vec3 m1 = materialDirector1(state_.frames, state_.q, net, parts.head_edge);
+  s.head_orientation = quaternionFromFrame(m1, axis.cross(m1), axis);
+  s.head_angle = state_.q(net.thetaIndex(parts.head_edge));
+  s.tail_angle = state_.q(net.thetaIndex(parts.shaft_edge));
+  s.omega_h = state_.qdot(net.thetaIndex(parts.head_edge));
+  s.omega_t = state_.qdot(net.thetaIndex(parts.shaft_edge));
+  s.omega_T = last_omega_;
+  s.newton_iterations = newton_iterations_;
+  s.subdivided_steps = subdivided_steps_;
+  if (record_nodes_)
+    for (int i = 0; i < net.numNodes(); ++i) s.nodes.push_back(nodePosition(state_.q, i));
+  return s;
+}
+
+void Simulation::recordSample() {
+  trajectory_.push_back(sample());
+  next_sample_time_ = state_.time + config_.output_interval;
+}
+
+SummaryMetrics Simulation::summary() const {
+  SummaryInputs in;
+  in.up = config_.medium.up;
+  in.initial_axis = trajectory_.front().head_axis;
+  in.steady_fraction = config_.steady_fraction;
+  if (const Effect* e = stepper_.findEffect("stokes_head")) {
+    in.C_t = e->parameters().get("C_t");
+    in.C_r = e->parameters().get("C_r");
+    in.head_radius = e->parameters().get("head_radius");
+  }
+  return summarize(trajectory_, in);
+}
+
+ParameterSet& Simulation::parameterOwner(const std::string& name, std::string& local) const {
+  auto& stepper = const_cast<ImplicitStepper&>(stepper_);
+  const std::string medium_prefix = "medium.";
+  const std::string effects_prefix = "effects.";
+  if (name.rfind(medium_prefix, 0) == 0) {
+    local = name.substr(medium_prefix.size());
+    return stepper.medium().parameters();
+  }
+  if (name.rfind(effects_prefix, 0) == 0) {
+    const std::string rest = name.substr(effects_prefix.size());
+    const size_t dot = rest.find('.');
+    if (dot != std::string::npos) {
+      if (Effect* e = stepper.findEffect(rest.substr(0, dot))) {
+        local = rest.substr(dot + 1);
+        return e->parameters();
+      }
+      throw ConfigError("parameter '" + name + "': effect '" + rest.substr(0, dot) + "' is not switched on");
+    }
+  }
+  throw ConfigError("parameter '" + name + "' must look like medium.<name> or effects.<effect>.<name>");
+}
+
+double Simulation::parameter(const std::string& name) const {
+  std::string local;
+  return parameterOwner(name, local).get(local);
+}
+
+void Simulation::setParameter(const std::string& name, double value) {
+  std::string local;
+  ParameterSet& owner = parameterOwner(name, local);
+  owner.set(local, value, name.substr(0, name.size() - local.size() - 1));
+}
+
+std::vector<std::string> Simulation::parameterNames() const {
+  std::vector<std::string> names;
+  for (const ParameterSpec& p : stepper_.medium().parameters().specs()) names.push_back("medium." + p.name);
+  for (const EffectPtr& e : stepper_.effects())
+    for (const ParameterSpec& p : e->parameters().specs()) names.push_back("effects." + e->name() + "." + p.name);
+  return names;
+}
+
+}  // namespace flagella

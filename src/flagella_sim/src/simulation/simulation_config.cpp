@@ -1,0 +1,173 @@
+#include "flagella_sim/simulation/simulation_config.h"
+
+#include <cmath>
+#include <fstream>
+
+#include "flagella_sim/core/yaml_fields.h"
+
+namespace flagella {
+
+namespace {
+
+constexpr double kRpmToRadPerSec = 2.0 * M_PI / 60.0;
+constexpr double kMaxMotorRpm = 1e4;
+
+void parseRobot(FieldReader r, SimulationConfig& c) {
+  MultiTailGeometry& g = c.geometry;
+  c.robot_name = r.choice("type", "multi_tail", {"multi_tail"});
+  g.n_tails = r.integer("n_tails", 2, 1, 12);
+  g.tail_length = r.number("tail_length", 0.111, 1e-3, 10.0, "m");
+  const bool has_edges = r.has("tail_edges");
+  const bool has_dl = r.has("tail_edge_length");
+  if (has_edges && has_dl)
+    throw ConfigError(r.field("tail_edges") + " and " + r.field("tail_edge_length") + " are exclusive: give one");
+  g.tail_edges = r.integer("tail_edges", 27, 2, 2000);
+  if (has_dl) {
+    const double dl = r.number("tail_edge_length", 4.11e-3, 1e-5, 1.0, "m");
+    g.tail_edges = std::max(2, static_cast<int>(std::lround(g.tail_length / dl)));
+  }
+  g.tail_material.radius = r.number("tail_radius", 3.2e-3, 1e-5, 0.1, "m");
+  g.tail_material.youngs_modulus = r.number("youngs_modulus", 1.2e6, 1.0, 1e12, "Pa");
+  g.tail_material.poisson_ratio = r.number("poisson_ratio", 0.5, 0.0, 0.5);
+  g.tail_material.density = r.number("density", 1000.0, 1.0, 1e5, "kg/m^3");
+  c.head_radius = r.number("head_radius", 0.02, 1e-4, 1.0, "m");
+  c.head_length = r.number("head_length", 2.0 * c.head_radius, 1e-4, 2.0, "m");
+  g.head_edge_length = r.number("head_edge_length", c.head_radius, 1e-4, 1.0, "m");
+  g.disc_radius = r.number("disc_radius", 0.02, 1e-4, 1.0, "m");
+  g.spoke_phase = r.number("spoke_phase_deg", 0.0, -360.0, 360.0, "deg") * M_PI / 180.0;
+  g.rigid_factor = r.number("rigid_factor", 1e3, 1.0, 1e6);
+  g.tail_length_scale = r.numberList("tail_length_scale", 0.1, 10.0);
+  g.tail_stiffness_scale = r.numberList("tail_stiffness_scale", 1e-3, 1e3);
+  for (const auto* list : {&g.tail_length_scale, &g.tail_stiffness_scale})
+    if (!list->empty() && static_cast<int>(list->size()) != g.n_tails)
+      throw ConfigError(r.field(list == &g.tail_length_scale ? "tail_length_scale" : "tail_stiffness_scale") +
+                        " needs one entry per tail (n_tails = " + std::to_string(g.n_tails) + ")");
+  if (g.tail_length / g.tail_edges < 1e-5) throw ConfigError(r.field("tail_edges") + " gives edges shorter than 10 um");
+  r.rejectUnknown();
+}
+
+void parseMedium(FieldReader r, SimulationConfig& c) {
+  c.medium.parameters().set("viscosity", r.number("viscosity", 1.0, 0.0, 1e6, "Pa s"), r.path());
+  c.medium.parameters().set("density", r.number("density", 1000.0, 0.0, 1e5, "kg/m^3"), r.path());
+  const Vec3 up = r.vector3("up", Vec3::UnitZ());
+  if (up.norm() < 1e-9) throw ConfigError(r.field("up") + " must be a non-zero vector");
+  c.medium.up = up.normalized();
+  c.medium.gravity = r.vector3("gravity", -9.81 * c.medium.up);
+  FieldReader p = r.child("interface_profile");
+  InterfaceViscosityProfile& prof = c.medium.profile;
+  prof.enabled = p.flag("enabled", false);
+  prof.reference_height = p.number("reference_height", 0.0, -100.0, 100.0, "m");
+  prof.length_scale = p.number("length_scale", c.head_radius, 1e-5, 10.0, "m");
+  prof.onset_height = p.number("onset_height", 0.7 * prof.length_scale, -10.0, 10.0, "m");
+  prof.sharpness = p.number("sharpness", 20.0, 0.0, 1e4);
+  p.rejectUnknown();
+  r.rejectUnknown();
+}
+
+EffectSpec parseEffect(FieldReader r, const std::string& name) {
+  EffectSpec e;
+  e.name = name;
+  // Structural options first; every remaining field is a named parameter of the effect.
+  if (name == "rft") {
+    e.log_form = r.choice("log_form", "2L/r0", {"2L/r0", "L/r0"});
+    e.use_interface_profile = r.flag("use_interface_profile", false);
+  }
+  if (name == "interface_lateral_force") e.lateral_mode = r.choice("mode", "fitted", {"fitted", "integrated"});
+  for (const std::string& key : r.keys()) {
+    if (key == "log_form" || key == "use_interface_profile" || key == "mode") continue;
+    e.parameters.emplace_back(key, r.number(key, 0.0, -1e12, 1e12));
+  }
+  return e;
+}
+
+void parseEffects(FieldReader r, SimulationConfig& c) {
+  for (const std::string& name : r.keys()) {
+    bool known = false;
+    for (const std::string& k : knownEffectNames()) known = known || k == name;
+    if (!known) {
+      std::string list;
+      for (const std::string& k : knownEffectNames()) list += (list.empty() ? "" : ", ") + k;
+      throw ConfigError("unknown effect '" + r.field(name) + "' (known: " + list + ")");
+    }
+    c.effects.push_back(parseEffect(r.child(name), name));
+  }
+}
+
+void parseMotor(FieldReader r, SimulationConfig& c) {
+  MotorSpec& m = c.motor;
+  m.mode = r.choice("mode", "constant", {"constant", "binary"});
+  m.omega = r.number("omega_rpm", 0.0, -kMaxMotorRpm, kMaxMotorRpm, "rpm") * kRpmToRadPerSec;
+  m.ramp_time = r.number("ramp_time", 0.0, 0.0, 1e4, "s");
+  if (m.mode == "binary") {
+    m.positive_duration = r.number("positive_duration", 1.0, 1e-6, 1e6, "s");
+    m.negative_duration = r.number("negative_duration", m.positive_duration, 1e-6, 1e6, "s");
+  }
+  r.rejectUnknown();
+}
+
+void parseSimulation(FieldReader r, SimulationConfig& c) {
+  c.dt = r.number("dt", 0.01, 1e-7, 1.0, "s");
+  c.duration = r.number("duration", 10.0, 0.0, 1e6, "s");
+  c.output_interval = r.number("output_interval", std::max(c.dt, 0.1), c.dt, 1e6, "s");
+  c.steady_fraction = r.number("steady_fraction", 0.5, 0.01, 1.0);
+  r.rejectUnknown();
+}
+
+void parseSolver(FieldReader r, SimulationConfig& c) {
+  NewtonOptions& o = c.solver;
+  o.residual_tolerance = r.number("residual_tolerance", o.residual_tolerance, 1e-14, 1.0);
+  o.step_tolerance = r.number("step_tolerance", o.step_tolerance, 0.0, 1e-3);
+  o.max_iterations = r.integer("max_iterations", o.max_iterations, 1, 1000);
+  o.max_subdivision_depth = r.integer("max_subdivision_depth", o.max_subdivision_depth, 0, 20);
+  o.extrapolate_initial_guess = r.flag("extrapolate_initial_guess", o.extrapolate_initial_guess);
+  r.rejectUnknown();
+  // Scale-aware convergence test (spec 1.10): forces against EI/L^2, moments against EI/L.
+  const double EI = c.geometry.tail_material.EI();
+  const double L = c.geometry.tail_length;
+  o.force_scale = EI / (L * L);
+  o.moment_scale = EI / L;
+  o.length_scale = L;
+}
+
+}  // namespace
+
+const std::vector<std::string>& knownEffectNames() {
+  static const std::vector<std::string> names{"rft", "stokes_head", "interface_lateral_force", "gravity"};
+  return names;
+}
+
+SimulationConfig parseSimulationConfig(const YAML::Node& root, const std::string& source) {
+  SimulationConfig c;
+  c.source = source;
+  FieldReader top(root, "");
+  parseRobot(top.child("robot"), c);
+  parseMedium(top.child("medium"), c);
+  parseEffects(top.child("effects"), c);
+  parseMotor(top.child("motor"), c);
+  parseSimulation(top.child("simulation"), c);
+  parseSolver(top.child("solver"), c);
+  top.rejectUnknown();
+  return c;
+}
+
+SimulationConfig loadSimulationConfig(const std::string& path, const std::vector<std::string>& overrides) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw ConfigError(path + ": cannot open config file");
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError(path + ": line " + std::to_string(e.mark.line + 1) + ", column " +
+                      std::to_string(e.mark.column + 1) + ": " + e.msg);
+  }
+  try {
+    for (const std::string& o : overrides) applyOverride(root, o);
+    return parseSimulationConfig(root, path);
+  } catch (const ConfigError& e) {
+    throw ConfigError(path + ": " + e.what());
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(path + ": " + e.what());
+  }
+}
+
+}  // namespace flagella
