@@ -10,6 +10,7 @@ RftDrag::RftDrag(RftLogForm form, bool use_interface_profile)
 
 void RftDrag::attach(const RodNetwork& net) {
   nodes_.clear();
+  cached_viscosity_ = -1.0;
   for (size_t k = 0; k < net.parts.tail_nodes.size(); ++k) {
     const std::vector<int>& tail = net.parts.tail_nodes[k];
     const std::vector<int>& edges = net.parts.tail_edges[k];
@@ -24,6 +25,15 @@ void RftDrag::attach(const RodNetwork& net) {
                         0.5 * (before + after), length, radius});
     }
   }
+}
+
+RftCoefficients RftDrag::coefficients(const TailNode& n, double viscosity) const {
+  if (viscosity != cached_viscosity_) {
+    cached_.clear();
+    for (const TailNode& m : nodes_) cached_.push_back(rftCoefficients(viscosity, m.tail_length, m.tail_radius, form_));
+    cached_viscosity_ = viscosity;
+  }
+  return cached_[&n - nodes_.data()];
 }
 
 void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const {
@@ -52,7 +62,7 @@ void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jaco
     s /= edge_count;
     const double s_norm = s.norm();
     const Vec3 that = s / s_norm;
-    const RftCoefficients c = rftCoefficients(ctx.medium.viscosity(), n.tail_length, n.tail_radius, form_);
+    const RftCoefficients c = coefficients(n, ctx.medium.viscosity());
     const double height = x.dot(ctx.medium.up);
     const double mu_factor = use_profile_ ? ctx.medium.profile.factor(height) : 1.0;
     const double scale = params_[drag_scale_] * mu_factor;

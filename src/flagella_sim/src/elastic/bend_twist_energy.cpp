@@ -206,9 +206,7 @@ void addBendTwistGradientHessian(const RodNetwork& net, const VecX& q,
     // spec 1.6: dE/dtheta^g = s_g dE/dtheta_loc; mixed entries carry both signs
     for (int a = 0; a < 11; ++a) gradient(map.index[a]) += map.sign[a] * terms.gradient(a);
     if (!hessian) continue;
-    for (int b = 0; b < 11; ++b)
-      for (int a = 0; a < 11; ++a)
-        hessian->add(map.index[a], map.index[b], map.sign[a] * map.sign[b] * terms.hessian(a, b));
+    hessian->addDense<11>(map.index, map.sign, terms.hessian);
   }
 }
 

@@ -120,6 +120,7 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
   o.max_iterations = r.integer("max_iterations", o.max_iterations, 1, 1000);
   o.max_subdivision_depth = r.integer("max_subdivision_depth", o.max_subdivision_depth, 0, 20);
   o.extrapolate_initial_guess = r.flag("extrapolate_initial_guess", o.extrapolate_initial_guess);
+  o.trace = r.flag("trace", o.trace);
   r.rejectUnknown();
   // Scale-aware convergence test (spec 1.10): forces against EI/L^2, moments against EI/L.
   const double EI = c.geometry.tail_material.EI();

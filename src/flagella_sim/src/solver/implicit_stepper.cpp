@@ -1,6 +1,8 @@
 #include "flagella_sim/solver/implicit_stepper.h"
 
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "flagella_sim/elastic/bend_twist_energy.h"
@@ -20,6 +22,10 @@ class NegatingSink : public JacobianSink {
  private:
   SparseAssembler& assembler_;
 };
+
+// A stagnated Newton update is accepted only if the residual is within this factor of the
+// tolerance (NewtonOptions::step_tolerance).
+constexpr double kStagnationResidualFactor = 1e3;
 
 }  // namespace
 
@@ -69,35 +75,60 @@ void ImplicitStepper::applyFixedDofs(SparseMatrix& J, VecX& f) const {
     if (net_.fixed_dof[i]) f(i) = 0.0;
 }
 
+double ImplicitStepper::stepNorm(const VecX& dq) const {
+  const int npos = 3 * net_.numNodes();
+  const double positions = dq.head(npos).cwiseAbs().maxCoeff() / options_.length_scale;
+  const double angles = net_.numEdges() ? dq.tail(net_.numEdges()).cwiseAbs().maxCoeff() : 0.0;
+  return std::max(positions, angles);
+}
+
+double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt,
+                                 const ReferenceFrames& frames, bool with_jacobian) {
+  // spec 1.10: f = (m/dt)((q - q_k)/dt - qdot_k) + dE/dq - F_ext,
+  //            J = m/dt^2 + d2E/dq2 - dF_ext/dq
+  const VecX& q0 = start.q;
+  const VecX& v0 = start.qdot;
+  residual_ = net_.lumped_mass.cwiseProduct(q - q0 - dt * v0) / (dt * dt);
+  SparseAssembler* hessian = with_jacobian ? &assembler_ : nullptr;
+  if (with_jacobian) {
+    assembler_.begin();
+    for (int i = 0; i < net_.ndof(); ++i) assembler_.add(i, i, net_.lumped_mass(i) / (dt * dt));
+  }
+  addStretchingGradientHessian(net_, q, residual_, hessian);
+  addBendTwistGradientHessian(net_, q, frames, residual_, hessian);
+  external_.setZero(net_.ndof());
+  NegatingSink sink(assembler_);
+  const EffectContext ctx{net_, q, frames, q0, v0, dt, start.time + dt, medium_};
+  for (const EffectPtr& e : effects_) e->addForce(ctx, external_, with_jacobian ? &sink : nullptr);
+  residual_ -= external_;
+  if (with_jacobian) {
+    SparseMatrix& J = assembler_.finish();
+    if (any_fixed_) applyFixedDofs(J, residual_);
+  } else if (any_fixed_) {
+    for (int i = 0; i < residual_.size(); ++i)
+      if (net_.fixed_dof[i]) residual_(i) = 0.0;
+  }
+  return residual_.allFinite() ? scaledResidual(residual_) : std::numeric_limits<double>::infinity();
+}
+
 ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, double motor_offset) {
   Attempt attempt;
   if (net_.parts.motor_spring >= 0)
     net_.bend_twist_springs[net_.parts.motor_spring].tau_bar = motor_tau_bar0_ + motor_offset;
   const VecX& q0 = state.q;
-  const VecX& v0 = state.qdot;
-  VecX q = options_.extrapolate_initial_guess ? VecX(q0 + dt * v0) : q0;
+  VecX q = options_.extrapolate_initial_guess ? VecX(q0 + dt * state.qdot) : q0;
   for (int i = 0; i < q.size(); ++i)
     if (net_.fixed_dof[i]) q(i) = q0(i);
-  const VecX inertia_coeff = net_.lumped_mass / (dt * dt);
-  VecX f(net_.ndof());
-  NegatingSink sink(assembler_);
+  // The first pass always builds the Jacobian; later passes first check convergence with the
+  // cheap residual-only evaluation and build the Jacobian only if another update is needed.
+  bool have_jacobian = false;
   for (int iter = 0; iter <= options_.max_iterations; ++iter) {
     const ReferenceFrames frames = transportFrames(net_, q, state.frames);
-    // spec 1.10: f = (m/dt)((q - q_k)/dt - qdot_k) + dE/dq - F_ext
-    f = inertia_coeff.cwiseProduct(q - q0 - dt * v0);
-    assembler_.begin();
-    for (int i = 0; i < net_.ndof(); ++i) assembler_.add(i, i, inertia_coeff(i));
-    addStretchingGradientHessian(net_, q, f, &assembler_);
-    addBendTwistGradientHessian(net_, q, frames, f, &assembler_);
-    VecX external = VecX::Zero(net_.ndof());
-    const EffectContext ctx{net_, q, frames, q0, v0, dt, state.time + dt, medium_};
-    for (const EffectPtr& e : effects_) e->addForce(ctx, external, &sink);
-    f -= external;
-    SparseMatrix& J = assembler_.finish();
-    if (any_fixed_) applyFixedDofs(J, f);
-    if (!f.allFinite()) return attempt;
-    attempt.residual = scaledResidual(f);
+    attempt.residual = evaluate(state, q, dt, frames, iter == 0);
+    have_jacobian = iter == 0;
     attempt.iterations = iter;
+    if (options_.trace) std::fprintf(stderr, "t=%.4f iter %d residual %.3e\n", state.time, iter, attempt.residual);
+    if (!std::isfinite(attempt.residual)) return attempt;
     if (attempt.residual < options_.residual_tolerance) {
       attempt.converged = true;
       state.qdot = (q - q0) / dt;
@@ -106,23 +137,20 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
       return attempt;
     }
     if (iter == options_.max_iterations) return attempt;
+    if (!have_jacobian) evaluate(state, q, dt, frames, true);
     if (!analyzed_ || assembler_.patternChanged()) {
-      lu_.analyze(J);
+      lu_.analyze(assembler_.matrix());
       analyzed_ = true;
       ++analyses_;
     }
     ++factorizations_;
-    if (!lu_.factorize(J)) return attempt;
-    const VecX dq = lu_.solve(f);
+    if (!lu_.factorize(assembler_.matrix())) return attempt;
+    const VecX dq = lu_.solve(residual_);
     if (!dq.allFinite()) return attempt;
     q -= dq;
-    const int npos = 3 * net_.numNodes();
-    const double step = std::max(dq.head(npos).cwiseAbs().maxCoeff() / options_.length_scale,
-                                 net_.numEdges() ? dq.tail(net_.numEdges()).cwiseAbs().maxCoeff() : 0.0);
-    if (step < options_.step_tolerance && attempt.residual < 1e3 * options_.residual_tolerance) {
-      // The update is at round-off level: accept (documented in NewtonOptions).
+    if (stepNorm(dq) < options_.step_tolerance && attempt.residual < kStagnationResidualFactor * options_.residual_tolerance) {
+      // Round-off-level update with a nearly converged residual: accept (NewtonOptions).
       attempt.converged = true;
-      attempt.iterations = iter + 1;
       state.qdot = (q - q0) / dt;
       state.q = q;
       state.frames = transportFrames(net_, q, state.frames);

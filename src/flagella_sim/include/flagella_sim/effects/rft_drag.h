@@ -28,10 +28,14 @@ class RftDrag : public Effect {
     double tail_length;
     double tail_radius;
   };
+  /// Drag coefficients of a tail at the medium's viscosity (cached: the log is not free).
+  RftCoefficients coefficients(const TailNode& n, double viscosity) const;
   RftLogForm form_;
   bool use_profile_;
   int drag_scale_ = 0;
   std::vector<TailNode> nodes_;
+  mutable double cached_viscosity_ = -1.0;
+  mutable std::vector<RftCoefficients> cached_;  // per node
 };
 
 }  // namespace flagella

@@ -63,9 +63,14 @@ class ImplicitStepper {
     int iterations = 0;
     double residual = 0.0;
   };
-  Attempt solveStep(RodState& state, double dt, double omega_end);
+  Attempt solveStep(RodState& state, double dt, double motor_offset);
+  /// Fills residual_ (and the Jacobian in assembler_ if asked) at iterate q; returns the
+  /// scaled residual (infinity if anything is not finite).
+  double evaluate(const RodState& start, const VecX& q, double dt, const ReferenceFrames& frames,
+                  bool with_jacobian);
   StepReport stepRecursive(RodState& state, double dt, const MotorCommand& motor, int depth);
   double scaledResidual(const VecX& f) const;
+  double stepNorm(const VecX& dq) const;
   void applyFixedDofs(SparseMatrix& J, VecX& f) const;
 
   RodNetwork net_;
@@ -75,6 +80,7 @@ class ImplicitStepper {
   double motor_tau_bar0_ = 0.0;
   bool any_fixed_ = false;
   SparseAssembler assembler_;
+  VecX residual_, external_;
   SparseLuSolver lu_;
   bool analyzed_ = false;
   int factorizations_ = 0;

@@ -18,6 +18,8 @@ struct NewtonOptions {
   double length_scale = 1.0;  ///< [m], e.g. tail length
   /// Initial guess q(t_k) + dt qdot(t_k) (public group code) instead of q(t_k).
   bool extrapolate_initial_guess = true;
+  /// Print every Newton iterate's scaled residual to stderr.
+  bool trace = false;
 };
 
 }  // namespace flagella
