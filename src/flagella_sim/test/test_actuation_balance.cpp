@@ -25,7 +25,7 @@ namespace {
 
 // Design 1 inputs of spec 8.1, restated here so the balances below do not read them back from
 // the code under test (a config that drifts from the spec makes the balances fail).
-constexpr double kTailLength = 0.111;  // L [m]
+constexpr double kTailLength = 0.111;   // L [m]
 constexpr double kTailRadius = 3.2e-3;  // r0 [m]
 constexpr double kHeadRadius = 0.02;    // a [m]
 constexpr double kDiscRadius = 0.02;    // R_d [m]
@@ -73,8 +73,7 @@ double headRotationalDrag() { return kCr * 8.0 * M_PI * kViscosity * std::pow(kH
 
 std::unique_ptr<Simulation> runDesign1(int n_tails, const std::vector<std::string>& extra = {}) {
   std::vector<std::string> overrides = {
-      "robot.n_tails=" + std::to_string(n_tails),
-      "motor.omega_rpm=" + std::to_string(kMotorRpm),
+      "robot.n_tails=" + std::to_string(n_tails), "motor.omega_rpm=" + std::to_string(kMotorRpm),
       "simulation.duration=" + std::to_string(kRunDuration),
       "simulation.steady_fraction=" + std::to_string(kSteadyFraction)};
   overrides.insert(overrides.end(), extra.begin(), extra.end());
@@ -101,7 +100,8 @@ ExternalBalance externalBalance(const Simulation& sim) {
   const Vec3 x1 = nodePosition(s.q, net.parts.head_center_node);
   ExternalBalance b;
   b.head_torque = -headRotationalDrag() * s.qdot(net.thetaIndex(net.parts.head_edge));
-  b.head_force = -headTranslationalDrag() * s.qdot.segment<3>(3 * net.parts.head_center_node).dot(axis);
+  b.head_force =
+      -headTranslationalDrag() * s.qdot.segment<3>(3 * net.parts.head_center_node).dot(axis);
   const Rft c = rftCoefficients();
   for (const std::vector<int>& tail : net.parts.tail_nodes) {
     const int n = static_cast<int>(tail.size());
@@ -112,7 +112,8 @@ ExternalBalance externalBalance(const Simulation& sim) {
       const double l = (i == 0 || i == n - 1) ? 0.5 * dl : dl;
       Vec3 t = Vec3::Zero();
       if (i > 0) t += (nodePosition(s.q, tail[i]) - nodePosition(s.q, tail[i - 1])).normalized();
-      if (i + 1 < n) t += (nodePosition(s.q, tail[i + 1]) - nodePosition(s.q, tail[i])).normalized();
+      if (i + 1 < n)
+        t += (nodePosition(s.q, tail[i + 1]) - nodePosition(s.q, tail[i])).normalized();
       t.normalize();
       const Vec3 v = s.qdot.segment<3>(3 * tail[i]);
       const Vec3 F = -l * (c.eta_p * v + (c.eta_t - c.eta_p) * t.dot(v) * t);
@@ -142,11 +143,12 @@ TEST_P(TorqueFreeMotor, HeadAndTailsCounterRotateAndShareMotorSpeed) {
   // Torque-free: the head's drag torque is balanced by the tails' RFT torque, and the head's
   // drag force by the tails' thrust (low Reynolds number, spec 2/3.1).
   const ExternalBalance b = externalBalance(*sim);
-  std::printf("[n=%d] axial torque head %+.5e tails %+.5e N m (rel residual %.1e); axial force "
-              "head %+.5e tails %+.5e N (rel residual %.1e)\n",
-              n_tails, b.head_torque, b.tail_torque,
-              std::abs(b.head_torque + b.tail_torque) / std::abs(b.head_torque), b.head_force,
-              b.tail_force, std::abs(b.head_force + b.tail_force) / std::abs(b.head_force));
+  std::printf(
+      "[n=%d] axial torque head %+.5e tails %+.5e N m (rel residual %.1e); axial force "
+      "head %+.5e tails %+.5e N (rel residual %.1e)\n",
+      n_tails, b.head_torque, b.tail_torque,
+      std::abs(b.head_torque + b.tail_torque) / std::abs(b.head_torque), b.head_force, b.tail_force,
+      std::abs(b.head_force + b.tail_force) / std::abs(b.head_force));
   EXPECT_GT(std::abs(b.head_torque), 0.0);
   EXPECT_NEAR(b.head_torque + b.tail_torque, 0.0, kBalanceTolerance * std::abs(b.head_torque));
   EXPECT_NEAR(b.head_force + b.tail_force, 0.0, kBalanceTolerance * std::abs(b.head_force));
@@ -163,8 +165,9 @@ TEST(ActuationBalance, RigidTailsSpinWithoutSwimming) {
   const auto rigid = runDesign1(n_tails, {"robot.youngs_modulus=" + std::to_string(E_rigid)});
   const SummaryMetrics f = flexible->summary();
   const SummaryMetrics r = rigid->summary();
-  std::printf("[rigid tails] v_rigid %.4e m/s vs v_flexible %.4e m/s; rigid omega_h %.5f omega_t %.5f\n",
-              r.speed, f.speed, r.omega_h, r.omega_t);
+  std::printf(
+      "[rigid tails] v_rigid %.4e m/s vs v_flexible %.4e m/s; rigid omega_h %.5f omega_t %.5f\n",
+      r.speed, f.speed, r.omega_h, r.omega_t);
   ASSERT_GT(f.speed, 0.0);
   EXPECT_LT(std::abs(r.speed), kRigidSpeedFraction * f.speed);
 
@@ -183,8 +186,8 @@ TEST(ActuationBalance, RigidTailsSpinWithoutSwimming) {
 // ---- (c) a lone head under a constant load moves at Stokes' velocity -------------------------
 
 TEST(ActuationBalance, LoneHeadReachesStokesVelocityAndSpin) {
-  constexpr double a = 0.02;       // head radius [m]
-  constexpr double mu = 2.5;       // medium viscosity [Pa s]
+  constexpr double a = 0.02;  // head radius [m]
+  constexpr double mu = 2.5;  // medium viscosity [Pa s]
   constexpr double C_t = 2.42, C_r = 0.039;
   constexpr double dt = 1e-2;
   constexpr int steps = 400;
@@ -235,14 +238,16 @@ TEST(ActuationBalance, LoneHeadReachesStokesVelocityAndSpin) {
   const double spin_expected = M / (8.0 * M_PI * C_r * mu * std::pow(a, 3));
   const double spin = s.qdot(net.thetaIndex(e0));
   const double spin_error = std::abs(spin - spin_expected) / spin_expected;
-  std::printf("[lone head] |v| %.10e vs %.10e m/s (rel err %.2e); spin %.10e vs %.10e rad/s "
-              "(rel err %.2e)\n",
-              v.norm(), v_expected.norm(), v_error, spin, spin_expected, spin_error);
+  std::printf(
+      "[lone head] |v| %.10e vs %.10e m/s (rel err %.2e); spin %.10e vs %.10e rad/s "
+      "(rel err %.2e)\n",
+      v.norm(), v_expected.norm(), v_error, spin, spin_expected, spin_error);
   EXPECT_LT(v_error, kStokesTolerance);
   EXPECT_LT(spin_error, kStokesTolerance);
   // The whole rigid head translates with x_1 and the shaft edge co-rotates with the head edge.
   for (int node : {x0, x2})
-    EXPECT_LT((s.qdot.segment<3>(3 * node) - v_expected).norm(), kStokesTolerance * v_expected.norm());
+    EXPECT_LT((s.qdot.segment<3>(3 * node) - v_expected).norm(),
+              kStokesTolerance * v_expected.norm());
   EXPECT_NEAR(s.qdot(net.thetaIndex(e1)), spin_expected, kStokesTolerance * spin_expected);
 }
 

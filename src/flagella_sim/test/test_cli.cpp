@@ -295,6 +295,20 @@ TEST_F(FlagellaRun, BeamPrintsTheLinearRow) {
   EXPECT_TRUE(found) << r.output;
 }
 
+// beam reads the head drag prefactors from the config: they must be validated like in `run`
+// (exit 2, full field name), and unknown parameter names rejected.
+TEST_F(FlagellaRun, BeamValidatesEffectParameters) {
+  const CommandResult negative =
+      runTool("beam " + design1_ + " --regime LB --set effects.stokes_head.C_t=-1");
+  EXPECT_EQ(negative.exit_code, kExitConfigError) << negative.output;
+  EXPECT_TRUE(contains(negative.output, "effects.stokes_head.C_t")) << negative.output;
+
+  const CommandResult unknown =
+      runTool("beam " + design1_ + " --regime LB --set effects.stokes_head.bogus=1");
+  EXPECT_EQ(unknown.exit_code, kExitConfigError) << unknown.output;
+  EXPECT_TRUE(contains(unknown.output, "effects.stokes_head.bogus")) << unknown.output;
+}
+
 TEST_F(FlagellaRun, SweepWritesOneRowPerCase) {
   const TempDir out;
   const CommandResult r =

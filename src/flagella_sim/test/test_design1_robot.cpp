@@ -105,10 +105,11 @@ Design1Result runAndCheck(int n_tails) {
   const WindowMetrics early = windowMetrics(traj, t_start, t_mid);
   const WindowMetrics late = windowMetrics(traj, t_mid, t_end);
   const double omega_T = motorOmega();
-  std::printf("[design 1, n=%d] v %.6e m/s (halves %.6e / %.6e), omega_h %.5f, omega_t %.5f rad/s "
-              "(omega_T %.5f), lateral %.2e m over forward %.2e m\n",
-              n_tails, r.window.speed, early.speed, late.speed, std::abs(r.window.omega_h),
-              std::abs(r.window.omega_t), omega_T, r.window.lateral, r.window.forward);
+  std::printf(
+      "[design 1, n=%d] v %.6e m/s (halves %.6e / %.6e), omega_h %.5f, omega_t %.5f rad/s "
+      "(omega_T %.5f), lateral %.2e m over forward %.2e m\n",
+      n_tails, r.window.speed, early.speed, late.speed, std::abs(r.window.omega_h),
+      std::abs(r.window.omega_t), omega_T, r.window.lateral, r.window.forward);
 
   // Steady state reached: both halves of the window agree.
   EXPECT_NEAR(early.speed, late.speed, kSteadinessTolerance * std::abs(late.speed));

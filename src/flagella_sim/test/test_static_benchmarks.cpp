@@ -112,31 +112,42 @@ TEST_P(CantileverTest, UniformLoadMatchesEulerBernoulli) {
   const double L_eff = effectiveBeamLength(edges);
   // Load per length giving the target tip deflection for w L^4/(8 EI).
   const double w = 8.0 * EI * kTipDeflectionFraction * kRodLength / std::pow(kRodLength, 4);
-  auto load = std::make_unique<ConstantLoad>();
   const double dl = kRodLength / edges;
-  for (int i = 0; i <= edges; ++i) {
-    const double voronoi = (i == 0 || i == edges) ? 0.5 * dl : dl;  // half an edge at the tip
-    load->addNodeForce(i, Vec3(w * voronoi, 0.0, 0.0));
+  // Both material bending directions and an oblique plane: the circular section is isotropic.
+  const std::vector<Vec3> directions = {Vec3(1.0, 0.0, 0.0), Vec3(0.0, 1.0, 0.0),
+                                        Vec3(1.0, 1.0, 0.0).normalized()};
+  for (const Vec3& dir : directions) {
+    SCOPED_TRACE("load direction (" + std::to_string(dir.x()) + ", " + std::to_string(dir.y()) +
+                 ")");
+    auto load = std::make_unique<ConstantLoad>();
+    for (int i = 0; i <= edges; ++i) {
+      const double voronoi = (i == 0 || i == edges) ? 0.5 * dl : dl;  // half an edge at the tip
+      load->addNodeForce(i, w * voronoi * dir);
+    }
+    const RodState s = solveStatic(net, std::move(load));
+    const Vec3 d_tip = displacement(net, s, edges);
+    const double tip = d_tip.dot(dir);
+    const double expected = w * std::pow(L_eff, 4) / (8.0 * EI);
+    const double rel_error = std::abs(tip - expected) / expected;
+    std::printf(
+        "[cantilever uniform, %d edges, dir (%.3f, %.3f)] tip %.6e m, EB(L - dl/2) %.6e m, "
+        "rel err %.2e\n",
+        edges, dir.x(), dir.y(), tip, expected, rel_error);
+    EXPECT_LT(rel_error, kBendingTolerance);
+    const double discrete = w * std::pow(kRodLength * (kRodLength - dl), 2) / (8.0 * EI);
+    EXPECT_NEAR(tip, discrete, kDiscreteLinearTolerance * discrete);
+    // The deflection stays in the load plane (spanned by dir and the rod axis) and the clamp holds.
+    const Vec3 off_plane = d_tip - d_tip.dot(dir) * dir - d_tip.z() * Vec3::UnitZ();
+    EXPECT_LT(off_plane.norm(), 1e-9 * tip);
+    EXPECT_EQ(displacement(net, s, 1).norm(), 0.0);
+    // Deflection profile, not only the tip: y(s) = w/(24 EI) s^2 (6 L^2 - 4 L s + s^2) from the
+    // effective clamp s = z - dl/2; checked at mid-span with the same tolerance on the tip scale.
+    const int mid = edges / 2;
+    const double s_mid = mid * dl - 0.5 * dl;
+    const double y_mid = w / (24.0 * EI) * s_mid * s_mid *
+                         (6.0 * L_eff * L_eff - 4.0 * L_eff * s_mid + s_mid * s_mid);
+    EXPECT_NEAR(displacement(net, s, mid).dot(dir), y_mid, kBendingTolerance * expected);
   }
-  const RodState s = solveStatic(net, std::move(load));
-  const double tip = displacement(net, s, edges).x();
-  const double expected = w * std::pow(L_eff, 4) / (8.0 * EI);
-  const double rel_error = std::abs(tip - expected) / expected;
-  std::printf("[cantilever uniform, %d edges] tip %.6e m, EB(L - dl/2) %.6e m, rel err %.2e\n",
-              edges, tip, expected, rel_error);
-  EXPECT_LT(rel_error, kBendingTolerance);
-  const double discrete = w * std::pow(kRodLength * (kRodLength - dl), 2) / (8.0 * EI);
-  EXPECT_NEAR(tip, discrete, kDiscreteLinearTolerance * discrete);
-  // The deflection is in the load plane only and the clamp holds.
-  EXPECT_NEAR(displacement(net, s, edges).y(), 0.0, 1e-9 * tip);
-  EXPECT_EQ(displacement(net, s, 1).norm(), 0.0);
-  // Deflection profile, not only the tip: y(s) = w/(24 EI) (s^2)(6 L^2 - 4 L s + s^2) from the
-  // effective clamp s = x - dl/2; checked at mid-span with the same tolerance on the tip scale.
-  const int mid = edges / 2;
-  const double s_mid = mid * dl - 0.5 * dl;
-  const double y_mid = w / (24.0 * EI) * s_mid * s_mid *
-                       (6.0 * L_eff * L_eff - 4.0 * L_eff * s_mid + s_mid * s_mid);
-  EXPECT_NEAR(displacement(net, s, mid).x(), y_mid, kBendingTolerance * expected);
 }
 
 TEST_P(CantileverTest, TipLoadMatchesEulerBernoulli) {
@@ -156,8 +167,7 @@ TEST_P(CantileverTest, TipLoadMatchesEulerBernoulli) {
               edges, tip, expected, rel_error);
   EXPECT_LT(rel_error, kBendingTolerance);
   const double dl = kRodLength / edges;
-  const double discrete =
-      P * kRodLength * (kRodLength - dl) * (kRodLength - 0.5 * dl) / (3.0 * EI);
+  const double discrete = P * kRodLength * (kRodLength - dl) * (kRodLength - 0.5 * dl) / (3.0 * EI);
   EXPECT_NEAR(tip, discrete, kDiscreteLinearTolerance * discrete);
 }
 
@@ -183,8 +193,8 @@ TEST(StaticBenchmarks, EndTorqueTwistsLinearly) {
   const double twist = s.q(net.thetaIndex(last)) - theta0;
   const double expected = M * L_eff / GJ;
   const double rel_error = std::abs(twist - expected) / expected;
-  std::printf("[end torque] twist %.10e rad, M L_eff/GJ %.10e rad, rel err %.2e\n", twist,
-              expected, rel_error);
+  std::printf("[end torque] twist %.10e rad, M L_eff/GJ %.10e rad, rel err %.2e\n", twist, expected,
+              rel_error);
   EXPECT_LT(rel_error, kTwistTolerance);
   // Uniform torque: theta^j - theta^0 = M (j dl)/GJ for every edge (linear along the rod).
   double max_profile_error = 0.0;

@@ -21,8 +21,8 @@ std::ofstream openOrThrow(const std::string& path) {
 
 std::string trajectoryCsvHeader() {
   return "time,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz,head_axis_x,head_axis_y,"
-         "head_axis_z,omega_h,omega_t,omega_T,speed,head_angle,tail_angle,newton_iterations,"
-         "subdivided_steps";
+         "head_axis_z,omega_h,omega_t,omega_T,speed,yaw,yaw_rate,head_angle,tail_angle,"
+         "newton_iterations,subdivided_steps";
 }
 
 void writeTrajectoryCsv(const std::string& path, const std::vector<TrajectorySample>& samples) {
@@ -34,7 +34,7 @@ void writeTrajectoryCsv(const std::string& path, const std::vector<TrajectorySam
         << s.head_position.z() << "," << q.w() << "," << q.x() << "," << q.y() << "," << q.z()
         << "," << s.head_axis.x() << "," << s.head_axis.y() << "," << s.head_axis.z() << ","
         << s.omega_h << "," << s.omega_t << "," << s.omega_T << "," << s.head_velocity.norm()
-        << "," << s.head_angle << "," << s.tail_angle << "," << s.newton_iterations << ","
+        << "," << s.yaw << "," << s.yaw_rate << "," << s.head_angle << "," << s.tail_angle << "," << s.newton_iterations << ","
         << s.subdivided_steps << "\n";
   }
 }

@@ -49,8 +49,7 @@ SummaryMetrics summarize(const std::vector<TrajectorySample>& samples, const Sum
     forward.push_back(-(s.head_position - samples.front().head_position).dot(in.initial_axis));
     horizontal.emplace_back(s.head_position.dot(e1), s.head_position.dot(e2));
     const Vec3 axis_h = s.head_axis - s.head_axis.dot(up) * up;
-    // psi: azimuth of the forward direction (-axis) projected on the horizontal plane
-    yaw.push_back(axis_h.norm() > kMinHorizontalAxis ? std::atan2(-axis_h.dot(e2), -axis_h.dot(e1)) : 0.0);
+    yaw.push_back(s.yaw);  // psi: azimuth of the forward direction about the vertical
     const Vec3 v_h = s.head_velocity - s.head_velocity.dot(up) * up;
     speed_sum += s.head_velocity.norm();
     omega_T_sum += std::abs(s.omega_T);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "flagella_sim/core/geometry.h"
 #include "flagella_sim/outputs/fits.h"
 #include "flagella_sim/rod/rod_kinematics.h"
 #include "flagella_sim/simulation/effect_factory.h"
@@ -75,6 +76,21 @@ TrajectorySample Simulation::sample() const {
   s.omega_h = state_.qdot(net.thetaIndex(parts.head_edge));
   s.omega_t = state_.qdot(net.thetaIndex(parts.shaft_edge));
   s.omega_T = last_omega_;
+  // Yaw of the forward direction -t^0 about the vertical, and its exact rate from the
+  // velocities of x_0, x_1: d(t)/dt = (I - t t^T)(v_1 - v_0)/|e^0|.
+  const Vec3& up = stepper_.medium().up;
+  const Vec3 e1 = anyPerpendicular(up);
+  const Vec3 e2 = up.cross(e1);
+  const Vec3 edge = nodePosition(state_.q, parts.head_center_node) - nodePosition(state_.q, parts.head_front_node);
+  const Vec3 edge_rate = state_.qdot.segment<3>(3 * parts.head_center_node) -
+                         state_.qdot.segment<3>(3 * parts.head_front_node);
+  const Vec3 axis_rate = (edge_rate - axis.dot(edge_rate) * axis) / edge.norm();
+  const Vec3 forward_h = -(axis - axis.dot(up) * up);
+  const Vec3 forward_rate_h = -(axis_rate - axis_rate.dot(up) * up);
+  if (forward_h.squaredNorm() > 0.0) {
+    s.yaw = std::atan2(forward_h.dot(e2), forward_h.dot(e1));
+    s.yaw_rate = up.dot(forward_h.cross(forward_rate_h)) / forward_h.squaredNorm();
+  }
   s.newton_iterations = newton_iterations_;
   s.subdivided_steps = subdivided_steps_;
   if (record_nodes_)

@@ -20,6 +20,8 @@ struct TrajectorySample {
   double omega_t = 0.0;      ///< signed theta_dot^1 [rad/s]
   double omega_T = 0.0;      ///< motor command [rad/s]
   Vec3 head_velocity = Vec3::Zero();
+  double yaw = 0.0;       ///< azimuth of the forward direction (-t^0) about the world vertical [rad]
+  double yaw_rate = 0.0;  ///< its instantaneous rate [rad/s] (spec 7.1 omega_yr)
   long newton_iterations = 0;  ///< cumulative since t = 0
   long subdivided_steps = 0;   ///< cumulative count of steps that needed subdivision
   std::vector<Vec3> nodes;  ///< all node positions (only if recorded)
@@ -46,7 +48,7 @@ struct SummaryMetrics {
 };
 
 struct SummaryInputs {
-  Vec3 up = Vec3::UnitZ();      ///< world vertical
+  Vec3 up = Vec3::UnitZ();      ///< world vertical (the samples' yaw must use the same)
   Vec3 initial_axis = Vec3::UnitZ();
   double steady_fraction = 0.5;
   double C_t = 0.0, C_r = 0.0, head_radius = 0.0;  ///< for eta; C_r = 0 disables it
