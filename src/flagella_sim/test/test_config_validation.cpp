@@ -214,8 +214,8 @@ TEST(UnknownField, EffectParameterIsRejectedWithItsKnownNames) {
   const TempDir dir;
   ConfigSections s;
   s.effects += "    C_tt: 1.0\n";  // a typo inside effects.stokes_head
-  const SimulationConfig c = loadSimulationConfig(dir.write("c.yaml", s.text()));
-  const std::string msg = configErrorOf([&] { Simulation sim(c); });
+  // Effect parameters are validated while loading, so the message carries the file name too.
+  const std::string msg = loadError(dir.write("c.yaml", s.text()));
   EXPECT_TRUE(contains(msg, "effects.stokes_head.C_tt")) << msg;
   EXPECT_TRUE(contains(msg, "C_t")) << msg;
   EXPECT_TRUE(contains(msg, "C_r")) << msg;
@@ -534,16 +534,23 @@ TEST(Overrides, UnknownFieldViaOverrideIsRejected) {
 // Effect parameters and named parameters of a Simulation
 // ---------------------------------------------------------------------------------------------
 
-TEST(EffectParameters, OutOfRangeIsRejectedAtSimulationConstruction) {
+TEST(EffectParameters, OutOfRangeIsRejectedWhileLoading) {
   const std::string path = shippedConfig(kDesign1);
-  const SimulationConfig c = loadSimulationConfig(path, {"effects.stokes_head.C_t=-1"});
-  const std::string msg = configErrorOf([&] { Simulation sim(c); });
+  const std::string msg = loadError(path, {"effects.stokes_head.C_t=-1"});
   EXPECT_TRUE(namesFieldAndRange(msg, "effects.stokes_head.C_t")) << msg;
   EXPECT_TRUE(contains(msg, "got -1")) << msg;
+  EXPECT_TRUE(contains(msg, "granular_design1.yaml")) << msg;
+  EXPECT_TRUE(namesFieldAndRange(loadError(path, {"effects.stokes_head.C_r=2e4"}),
+                                 "effects.stokes_head.C_r"));
+}
 
-  const SimulationConfig big = loadSimulationConfig(path, {"effects.stokes_head.C_r=2e4"});
-  EXPECT_TRUE(
-      namesFieldAndRange(configErrorOf([&] { Simulation sim(big); }), "effects.stokes_head.C_r"));
+TEST(EffectParameters, OutOfRangeIsRejectedAtSimulationConstruction) {
+  // A config assembled in code (not loaded) is validated when the Simulation is built.
+  SimulationConfig c = loadSimulationConfig(shippedConfig(kDesign1));
+  for (EffectSpec& e : c.effects)
+    if (e.name == "stokes_head") e.parameters.emplace_back("C_t", -1.0);
+  const std::string msg = configErrorOf([&] { Simulation sim(c); });
+  EXPECT_TRUE(namesFieldAndRange(msg, "effects.stokes_head.C_t")) << msg;
 }
 
 TEST(EffectParameters, NonFiniteIsRejectedNamingTheField) {
@@ -678,8 +685,7 @@ TEST(InterfaceLateralForce, CoefficientGivenInIntegratedModeIsRejected) {
   const TempDir dir;
   const std::string path =
       dir.write("c.yaml", interfaceConfig("    mode: integrated\n    C_yr: 2.0\n"));
-  const SimulationConfig c = loadSimulationConfig(path);
-  const std::string msg = configErrorOf([&] { Simulation sim(c); });
+  const std::string msg = loadError(path);
   EXPECT_TRUE(contains(msg, "effects.interface_lateral_force.C_yr")) << msg;
   EXPECT_TRUE(contains(msg, "integrated")) << msg;
 }

@@ -1,7 +1,9 @@
 // flagella_run: headless runner of the rod-network simulator (run, sweep, beam, params).
 #include <CLI/CLI.hpp>
 
+#include <iomanip>
 #include <iostream>
+#include <sstream>
 
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/solver/implicit_stepper.h"
@@ -12,12 +14,19 @@ using namespace flagella::cli;
 namespace {
 
 void addCommon(CLI::App* app, CommonOptions& o) {
+  // Existence is checked by the config loader so that a missing file is an input error (exit 2).
   app->add_option("config", o.config, "robot/run config (YAML), e.g. config/granular_design1.yaml")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   app->add_option("--set", o.overrides, "override a config field: section.field=value (repeatable)");
   app->add_option("--out", o.out_dir, "output directory")->capture_default_str();
   app->add_flag("--quiet", o.quiet, "no progress output");
+}
+
+// Full precision: std::to_string would round 5e-7 to 0.000000.
+std::string exact(double x) {
+  std::ostringstream out;
+  out << std::setprecision(17) << x;
+  return out.str();
 }
 
 // Convenience flags that become overrides.
@@ -33,11 +42,11 @@ struct Shortcuts {
   }
   void apply(CLI::App* app, std::vector<std::string>& ov) const {
     auto given = [&](const char* name) { return app->get_option_no_throw(name) && app->count(name) > 0; };
-    if (given("--omega-rpm")) ov.push_back("motor.omega_rpm=" + std::to_string(omega_rpm));
+    if (given("--omega-rpm")) ov.push_back("motor.omega_rpm=" + exact(omega_rpm));
     if (given("--n-tails")) ov.push_back("robot.n_tails=" + std::to_string(n_tails));
-    if (given("--tail-length")) ov.push_back("robot.tail_length=" + std::to_string(tail_length));
-    if (given("--dt")) ov.push_back("simulation.dt=" + std::to_string(dt));
-    if (given("--duration")) ov.push_back("simulation.duration=" + std::to_string(duration));
+    if (given("--tail-length")) ov.push_back("robot.tail_length=" + exact(tail_length));
+    if (given("--dt")) ov.push_back("simulation.dt=" + exact(dt));
+    if (given("--duration")) ov.push_back("simulation.duration=" + exact(duration));
   }
 };
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <mutex>
 #include <sstream>
@@ -120,11 +121,20 @@ int sweepCommand(const SweepOptions& o) {
   struct Case {
     int n;
     double rpm;
+    SimulationConfig config;
     RunResult result;
   };
   std::vector<Case> cases;
+  // Every case is loaded (and validated) before any runs, so bad input fails fast with exit 2.
   for (int n : o.n_tails)
-    for (double rpm : o.omega_rpm) cases.push_back({n, rpm, {}});
+    for (double rpm : o.omega_rpm) {
+      std::vector<std::string> overrides = o.overrides;
+      overrides.push_back("robot.n_tails=" + std::to_string(n));
+      std::ostringstream omega;
+      omega << std::setprecision(17) << rpm;
+      overrides.push_back("motor.omega_rpm=" + omega.str());
+      cases.push_back({n, rpm, loadSimulationConfig(o.config, overrides), {}});
+    }
   std::filesystem::create_directories(o.out_dir);
   std::mutex mutex;
   size_t next = 0, done = 0;
@@ -136,12 +146,13 @@ int sweepCommand(const SweepOptions& o) {
         if (next >= cases.size()) return;
         i = next++;
       }
-      std::vector<std::string> overrides = o.overrides;
-      overrides.push_back("robot.n_tails=" + std::to_string(cases[i].n));
-      overrides.push_back("motor.omega_rpm=" + std::to_string(cases[i].rpm));
-      const SimulationConfig config = loadSimulationConfig(o.config, overrides);
-      Simulation sim(config);
-      cases[i].result = simulate(config, sim, true);
+      try {
+        Simulation sim(cases[i].config);
+        cases[i].result = simulate(cases[i].config, sim, true);
+      } catch (const std::exception& e) {  // never let an exception escape a worker thread
+        cases[i].result.failed = true;
+        cases[i].result.error = e.what();
+      }
       std::lock_guard<std::mutex> lock(mutex);
       ++done;
       if (!o.quiet)
@@ -174,9 +185,13 @@ int sweepCommand(const SweepOptions& o) {
     else
       std::fprintf(stderr, "warning: plotting failed (%s)\n", cmd.c_str());
   }
+  int status = 0;
   for (const Case& c : cases)
-    if (c.result.failed) return 3;
-  return 0;
+    if (c.result.failed) {
+      std::fprintf(stderr, "error: n = %d, omega_T = %g rpm: %s\n", c.n, c.rpm, c.result.error.c_str());
+      status = 3;
+    }
+  return status;
 }
 
 int beamCommand(const BeamOptions& o) {
@@ -190,15 +205,13 @@ int beamCommand(const BeamOptions& o) {
   d.head_radius = c.head_radius;
   d.viscosity = c.medium.viscosity();
   d.log_form = RftLogForm::kTwoLengthOverRadius;
-  d.C_t = d.C_r = 0.0;
-  for (const EffectSpec& e : c.effects) {
+  // The beam model uses the same (validated) effect parameters as the rod model.
+  const Simulation probe(c);
+  d.C_t = probe.parameter("effects.stokes_head.C_t");
+  d.C_r = probe.parameter("effects.stokes_head.C_r");
+  d.head_radius = probe.parameter("effects.stokes_head.head_radius");
+  for (const EffectSpec& e : c.effects)
     if (e.name == "rft") d.log_form = parseRftLogForm(e.log_form);
-    if (e.name == "stokes_head")
-      for (const auto& [name, value] : e.parameters) {
-        if (name == "C_t") d.C_t = value;
-        if (name == "C_r") d.C_r = value;
-      }
-  }
   const double omega = std::abs(c.motor.omega);
   std::vector<beam::BeamRegime> regimes;
   if (o.regime == "LB" || o.regime == "all") regimes.push_back(beam::BeamRegime::kLinear);
@@ -231,7 +244,8 @@ int paramsCommand(const CommonOptions& o) {
   Simulation sim(c);
   std::printf("%-45s %14s %14s %14s  %s\n", "parameter", "value", "min", "max", "unit");
   for (const std::string& name : sim.parameterNames()) {
-    std::printf("%-45s %14.6g\n", name.c_str(), sim.parameter(name));
+    const ParameterSpec& p = sim.parameterSpec(name);
+    std::printf("%-45s %14.6g %14.6g %14.6g  %s\n", name.c_str(), p.value, p.min, p.max, p.unit.c_str());
   }
   return 0;
 }

@@ -12,6 +12,12 @@ std::string joinNames(const std::vector<std::string>& names) {
   return out;
 }
 
+std::string formatNumber(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
+}
+
 std::string where(const YAML::Node& node) {
   const YAML::Mark m = node.Mark();
   if (m.line < 0) return "";
@@ -21,7 +27,7 @@ std::string where(const YAML::Node& node) {
 
 FieldReader::FieldReader(const YAML::Node& node, std::string path) : node_(node), path_(std::move(path)) {
   if (node_ && !node_.IsNull() && !node_.IsMap())
-    throw ConfigError(path_ + " must be a map of fields" + where(node_));
+    throw ConfigError((path_.empty() ? std::string("the config") : path_) + " must be a map of fields" + where(node_));
 }
 
 bool FieldReader::has(const std::string& key) const {
@@ -50,7 +56,7 @@ double FieldReader::number(const std::string& key, double fallback, double min, 
 }
 
 double FieldReader::requiredNumber(const std::string& key, double min, double max, const std::string& unit) {
-  if (!has(key)) throw ConfigError(field(key) + " is required (allowed range [" + std::to_string(min) + ", " + std::to_string(max) + "] " + unit + ")");
+  if (!has(key)) throw ConfigError(field(key) + " is required (allowed range [" + formatNumber(min) + ", " + formatNumber(max) + "] " + unit + ")");
   return number(key, 0.0, min, max, unit);
 }
 
@@ -61,7 +67,8 @@ int FieldReader::integer(const std::string& key, int fallback, int min, int max)
   try {
     value = v.as<int>();
   } catch (const YAML::Exception&) {
-    throw ConfigError(field(key) + " must be an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]" + where(v));
+    const std::string got = v.IsScalar() ? ", got " + v.as<std::string>() : "";
+    throw ConfigError(field(key) + " must be an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]" + got + where(v));
   }
   if (value < min || value > max) throw ConfigError(rangeMessage(field(key), value, min, max) + where(v));
   return value;
@@ -81,6 +88,7 @@ std::string FieldReader::choice(const std::string& key, const std::string& fallb
                                 const std::vector<std::string>& allowed) {
   const YAML::Node v = get(key);
   if (!v || v.IsNull()) return fallback;
+  if (!v.IsScalar()) throw ConfigError(field(key) + " must be one of: " + joinNames(allowed) + where(v));
   const std::string value = v.as<std::string>();
   for (const std::string& a : allowed)
     if (a == value) return value;
@@ -93,7 +101,11 @@ Vec3 FieldReader::vector3(const std::string& key, const Vec3& fallback) {
   if (!v.IsSequence() || v.size() != 3) throw ConfigError(field(key) + " must be a list of 3 numbers" + where(v));
   Vec3 out;
   for (int i = 0; i < 3; ++i) {
-    out(i) = v[i].as<double>();
+    try {
+      out(i) = v[i].as<double>();
+    } catch (const YAML::Exception&) {
+      throw ConfigError(field(key) + " must be a list of 3 numbers" + where(v));
+    }
     if (!std::isfinite(out(i))) throw ConfigError(field(key) + " must hold finite numbers" + where(v));
   }
   return out;
@@ -105,7 +117,12 @@ std::vector<double> FieldReader::numberList(const std::string& key, double min, 
   if (!v || v.IsNull()) return out;
   if (!v.IsSequence()) throw ConfigError(field(key) + " must be a list of numbers" + where(v));
   for (size_t i = 0; i < v.size(); ++i) {
-    const double x = v[i].as<double>();
+    double x = 0.0;
+    try {
+      x = v[i].as<double>();
+    } catch (const YAML::Exception&) {
+      throw ConfigError(field(key) + "[" + std::to_string(i) + "] must be a number in [" + formatNumber(min) + ", " + formatNumber(max) + "]" + where(v));
+    }
     if (!std::isfinite(x) || x < min || x > max)
       throw ConfigError(rangeMessage(field(key) + "[" + std::to_string(i) + "]", x, min, max) + where(v));
     out.push_back(x);
@@ -138,11 +155,23 @@ void applyOverride(YAML::Node& root, const std::string& assignment) {
   if (eq == std::string::npos || eq == 0)
     throw ConfigError("override '" + assignment + "' must look like section.field=value");
   const std::string path = assignment.substr(0, eq);
-  YAML::Node value;
+  const std::string text = assignment.substr(eq + 1);
+  if (text.find_first_not_of(" \t") == std::string::npos)
+    throw ConfigError("override '" + assignment + "' has an empty value");
+  YAML::Node parsed;
   try {
-    value = YAML::Load(assignment.substr(eq + 1));
+    parsed = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw ConfigError("override '" + assignment + "': cannot parse the value");
+  }
+  // Rebuild without source marks: they would point into the override text, not the file.
+  YAML::Node value;
+  if (parsed.IsSequence()) {
+    for (const YAML::Node& item : parsed) value.push_back(item.IsScalar() ? YAML::Node(item.as<std::string>()) : item);
+  } else if (parsed.IsScalar()) {
+    value = YAML::Node(parsed.as<std::string>());
+  } else {
+    value = parsed;
   }
   std::vector<std::string> parts;
   std::stringstream ss(path);

@@ -51,13 +51,19 @@ StepReport Simulation::step() {
 void Simulation::run(double duration, const std::function<void(double)>& progress) {
   const double t_start = state_.time;
   const long steps = std::lround(duration / config_.dt);
-  for (long k = 0; k < steps; ++k) {
-    step();
-    if (state_.time + kSampleTimeSlack >= next_sample_time_) {
-      recordSample();
-      if (progress) progress((state_.time - t_start) / duration);
+  try {
+    for (long k = 0; k < steps; ++k) {
+      step();
+      if (state_.time + kSampleTimeSlack >= next_sample_time_) {
+        recordSample();
+        if (progress) progress((state_.time - t_start) / duration);
+      }
     }
+  } catch (const SolverFailure&) {
+    recordFinalSample();
+    throw;
   }
+  recordFinalSample();
 }
 
 TrajectorySample Simulation::sample() const {
@@ -96,6 +102,10 @@ TrajectorySample Simulation::sample() const {
   if (record_nodes_)
     for (int i = 0; i < net.numNodes(); ++i) s.nodes.push_back(nodePosition(state_.q, i));
   return s;
+}
+
+void Simulation::recordFinalSample() {
+  if (trajectory_.empty() || trajectory_.back().time + kSampleTimeSlack < state_.time) recordSample();
 }
 
 void Simulation::recordSample() {
@@ -141,6 +151,15 @@ ParameterSet& Simulation::parameterOwner(const std::string& name, std::string& l
 double Simulation::parameter(const std::string& name) const {
   std::string local;
   return parameterOwner(name, local).get(local);
+}
+
+const ParameterSpec& Simulation::parameterSpec(const std::string& name) const {
+  std::string local;
+  const ParameterSet& owner = parameterOwner(name, local);
+  owner.get(local);  // throws a ConfigError naming the parameter if unknown
+  for (const ParameterSpec& p : owner.specs())
+    if (p.name == local) return p;
+  throw ConfigError("unknown parameter '" + name + "'");
 }
 
 void Simulation::setParameter(const std::string& name, double value) {

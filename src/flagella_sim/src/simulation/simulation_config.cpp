@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
+
+#include "flagella_sim/simulation/effect_factory.h"
 
 #include "flagella_sim/core/yaml_fields.h"
 
@@ -73,9 +76,13 @@ EffectSpec parseEffect(FieldReader r, const std::string& name) {
     e.use_interface_profile = r.flag("use_interface_profile", false);
   }
   if (name == "interface_lateral_force") e.lateral_mode = r.choice("mode", "fitted", {"fitted", "integrated"});
+  // Ranges of parameters are the effect's own (checked when the effect is built).
+  constexpr double kAnyFinite = std::numeric_limits<double>::max();
   for (const std::string& key : r.keys()) {
-    if (key == "log_form" || key == "use_interface_profile" || key == "mode") continue;
-    e.parameters.emplace_back(key, r.number(key, 0.0, -1e12, 1e12));
+    const bool structural = (name == "rft" && (key == "log_form" || key == "use_interface_profile")) ||
+                            (name == "interface_lateral_force" && key == "mode");
+    if (structural) continue;
+    e.parameters.emplace_back(key, r.number(key, 0.0, -kAnyFinite, kAnyFinite));
   }
   return e;
 }
@@ -163,7 +170,9 @@ SimulationConfig loadSimulationConfig(const std::string& path, const std::vector
   }
   try {
     for (const std::string& o : overrides) applyOverride(root, o);
-    return parseSimulationConfig(root, path);
+    SimulationConfig config = parseSimulationConfig(root, path);
+    for (const EffectSpec& spec : config.effects) makeEffect(spec, config);  // validates parameters
+    return config;
   } catch (const ConfigError& e) {
     throw ConfigError(path + ": " + e.what());
   } catch (const YAML::Exception& e) {

@@ -165,7 +165,11 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, const Moto
   RodState trial = state;
   // spec 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
   const double omega = motor.omega(state.time + dt);
-  if (!std::isfinite(omega)) throw SolverFailure("motor command is not finite at t = " + std::to_string(state.time + dt));
+  if (!std::isfinite(omega)) {
+    std::ostringstream msg;
+    msg << "motor command is not finite (" << omega << ") at t = " << state.time + dt << " s";
+    throw SolverFailure(msg.str());
+  }
   const double offset = state.motor_twist_offset + omega * dt;
   const Attempt a = solveStep(trial, dt, offset);
   if (a.converged) {
@@ -190,11 +194,24 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, const Moto
 }
 
 StepReport ImplicitStepper::step(RodState& state, double dt, const MotorCommand& motor) {
-  if (!(dt > 0.0) || !std::isfinite(dt)) throw SolverFailure("time step must be > 0 and finite");
+  if (!(dt > 0.0) || !std::isfinite(dt)) {
+    std::ostringstream msg;
+    msg << "time step must be > 0 and finite, got " << dt;
+    throw SolverFailure(msg.str());
+  }
   RodState working = state;
-  StepReport report = stepRecursive(working, dt, motor, 0);
-  state = std::move(working);
-  return report;
+  try {
+    StepReport report = stepRecursive(working, dt, motor, 0);
+    state = std::move(working);
+    return report;
+  } catch (const SolverFailure& e) {
+    // Leave the network as it was before the rejected step (motor natural twist included).
+    if (net_.parts.motor_spring >= 0)
+      net_.bend_twist_springs[net_.parts.motor_spring].tau_bar = motor_tau_bar0_ + state.motor_twist_offset;
+    std::ostringstream msg;
+    msg << "step from t = " << state.time << " s with dt = " << dt << " s failed: " << e.what();
+    throw SolverFailure(msg.str());
+  }
 }
 
 VecX ImplicitStepper::externalForce(const RodState& state, const RodState& previous, double dt) const {

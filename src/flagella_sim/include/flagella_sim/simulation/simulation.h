@@ -30,6 +30,8 @@ class Simulation {
 
   /// Appends a sample of the current state to the trajectory.
   void recordSample();
+  /// Appends a sample unless the last one is already at the current time (end of a run).
+  void recordFinalSample();
   TrajectorySample sample() const;
   const std::vector<TrajectorySample>& trajectory() const { return trajectory_; }
   SummaryMetrics summary() const;
@@ -39,6 +41,8 @@ class Simulation {
   double parameter(const std::string& name) const;
   void setParameter(const std::string& name, double value);
   std::vector<std::string> parameterNames() const;
+  /// Value, range, unit and description of a named parameter.
+  const ParameterSpec& parameterSpec(const std::string& name) const;
 
   const RodState& state() const { return state_; }
   const SimulationConfig& config() const { return config_; }
