@@ -23,7 +23,8 @@ struct Timing {
   double newton_per_step;
 };
 
-Timing timeConfig(const std::string& path, const std::vector<std::string>& overrides, double sim_seconds) {
+Timing timeConfig(const std::string& path, const std::vector<std::string>& overrides,
+                  double sim_seconds) {
   std::vector<double> per_step, iterations;
   double dt = 0.0;
   for (int r = 0; r < kRepeats; ++r) {
@@ -36,7 +37,8 @@ Timing timeConfig(const std::string& path, const std::vector<std::string>& overr
     long newton = 0;
     const auto t0 = std::chrono::steady_clock::now();
     for (long k = 0; k < steps; ++k) newton += sim.step().newton_iterations;
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     per_step.push_back(wall / steps);
     iterations.push_back(static_cast<double>(newton) / steps);
   }
@@ -49,39 +51,49 @@ Timing timeConfig(const std::string& path, const std::vector<std::string>& overr
 
 int main(int argc, char** argv) {
   const std::string config_dir = argc > 1 ? argv[1] : "config";
-  std::printf("flagella core benchmark (one core, median of %d runs, after %.0f s warm-up)\n\n", kRepeats,
-              kWarmupSeconds);
-  std::printf("%-44s %10s %12s %14s %10s\n", "case", "DOFs", "us/step", "real-time x", "Newton/step");
+  std::printf("flagella core benchmark (one core, median of %d runs, after %.0f s warm-up)\n\n",
+              kRepeats, kWarmupSeconds);
+  std::printf("%-44s %10s %12s %14s %10s\n", "case", "DOFs", "us/step", "real-time x",
+              "Newton/step");
   struct Case {
     std::string label, file;
     std::vector<std::string> overrides;
   };
   const std::vector<Case> cases{
-      {"design 1, n = 3, 100 rpm, dt = 1e-2", "granular_design1.yaml", {"robot.n_tails=3", "motor.omega_rpm=100", "simulation.dt=0.01"}},
-      {"design 1, n = 2, 100 rpm, dt = 1e-2", "granular_design1.yaml", {"robot.n_tails=2", "motor.omega_rpm=100", "simulation.dt=0.01"}},
-      {"interface robot, N = 2, dt = 1e-2", "interface_robot.yaml", {"robot.n_tails=2", "simulation.dt=0.01"}},
+      {"design 1, n = 3, 100 rpm, dt = 1e-2",
+       "granular_design1.yaml",
+       {"robot.n_tails=3", "motor.omega_rpm=100", "simulation.dt=0.01"}},
+      {"design 1, n = 2, 100 rpm, dt = 1e-2",
+       "granular_design1.yaml",
+       {"robot.n_tails=2", "motor.omega_rpm=100", "simulation.dt=0.01"}},
+      {"interface robot, N = 2, dt = 1e-2",
+       "interface_robot.yaml",
+       {"robot.n_tails=2", "simulation.dt=0.01"}},
   };
   for (const Case& c : cases) {
     const SimulationConfig config = loadSimulationConfig(config_dir + "/" + c.file, c.overrides);
     const int dofs = Simulation(config).network().ndof();
     const Timing t = timeConfig(config_dir + "/" + c.file, c.overrides, 20.0);
-    std::printf("%-44s %10d %12.1f %14.1f %10.2f\n", c.label.c_str(), dofs, 1e6 * t.seconds_per_step,
-                t.real_time_factor, t.newton_per_step);
+    std::printf("%-44s %10d %12.1f %14.1f %10.2f\n", c.label.c_str(), dofs,
+                1e6 * t.seconds_per_step, t.real_time_factor, t.newton_per_step);
   }
 
   std::printf("\ntime per step against node count (design 1, n = 3, 100 rpm, dt = 1e-2)\n");
   std::printf("%10s %10s %12s\n", "nodes", "DOFs", "us/step");
   std::vector<double> log_nodes, log_time;
   for (int edges : {14, 27, 54, 108, 216}) {
-    const std::vector<std::string> ov{"robot.n_tails=3", "motor.omega_rpm=100", "simulation.dt=0.01",
+    const std::vector<std::string> ov{"robot.n_tails=3", "motor.omega_rpm=100",
+                                      "simulation.dt=0.01",
                                       "robot.tail_edges=" + std::to_string(edges)};
     const SimulationConfig config = loadSimulationConfig(config_dir + "/granular_design1.yaml", ov);
     const Simulation probe(config);
     const Timing t = timeConfig(config_dir + "/granular_design1.yaml", ov, 5.0);
-    std::printf("%10d %10d %12.1f\n", probe.network().numNodes(), probe.network().ndof(), 1e6 * t.seconds_per_step);
+    std::printf("%10d %10d %12.1f\n", probe.network().numNodes(), probe.network().ndof(),
+                1e6 * t.seconds_per_step);
     log_nodes.push_back(std::log(probe.network().numNodes()));
     log_time.push_back(std::log(t.seconds_per_step));
   }
-  std::printf("scaling exponent (time per step ~ nodes^p): p = %.2f\n", fitLine(log_nodes, log_time).slope);
+  std::printf("scaling exponent (time per step ~ nodes^p): p = %.2f\n",
+              fitLine(log_nodes, log_time).slope);
   return 0;
 }

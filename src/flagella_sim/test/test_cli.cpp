@@ -16,11 +16,13 @@
 #include <vector>
 
 #include "flagella_sim/outputs/output_writers.h"
+#include "support/temp_dir.h"
 
 namespace flagella {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::TempDir;
 
 constexpr char kRunExe[] = FLAGELLA_RUN_EXE;
 constexpr char kConfigDir[] = FLAGELLA_CONFIG_DIR;
@@ -110,32 +112,6 @@ double jsonNumber(const std::string& json, const std::string& key) {
   return std::stod(json.substr(at + quoted.size()));
 }
 
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    std::random_device rd;
-    path_ = fs::temp_directory_path() / ("flagella_cli_test_" + std::to_string(::getpid()) + "_" +
-                                         std::to_string(counter++) + "_" + std::to_string(rd()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-  std::string quoted() const { return shellQuote(path_.string()); }
-  std::string write(const std::string& file, const std::string& text) const {
-    std::ofstream(path_ / file) << text;
-    return (path_ / file).string();
-  }
-
- private:
-  fs::path path_;
-};
-
 class FlagellaRun : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -150,8 +126,8 @@ class FlagellaRun : public ::testing::Test {
 
 TEST_F(FlagellaRun, ShortRunWritesTimeseriesAndSummary) {
   const TempDir out;
-  const CommandResult r =
-      runTool("run " + design1_ + " --duration 2 --out " + out.quoted() + " --quiet");
+  const CommandResult r = runTool("run " + design1_ + " --duration 2 --out " +
+                                  shellQuote(out.path().string()) + " --quiet");
   ASSERT_EQ(r.exit_code, kExitOk) << r.output;
   for (const char* key : {"omega_h", "omega_t"}) EXPECT_TRUE(contains(r.output, key)) << r.output;
   EXPECT_TRUE(std::regex_search(r.output, std::regex(R"(\bv\s*=)"))) << r.output;
@@ -188,8 +164,8 @@ TEST_F(FlagellaRun, BadConfigExitsTwoNamingTheField) {
                                        "robot:\n"
                                        "  n_tails: 2\n"
                                        "  poisson_ratio: 0.7\n");
-  const CommandResult r =
-      runTool("run " + shellQuote(config) + " --out " + dir.quoted() + " --quiet");
+  const CommandResult r = runTool("run " + shellQuote(config) + " --out " +
+                                  shellQuote(dir.path().string()) + " --quiet");
   EXPECT_EQ(r.exit_code, kExitConfigError) << r.output;
   EXPECT_TRUE(contains(r.output, "robot.poisson_ratio")) << r.output;
   EXPECT_TRUE(contains(r.output, "[0, 0.5]")) << r.output;
@@ -199,24 +175,24 @@ TEST_F(FlagellaRun, BadConfigExitsTwoNamingTheField) {
 TEST_F(FlagellaRun, UnknownFieldExitsTwo) {
   const TempDir dir;
   const std::string config = dir.write("typo.yaml", "robot:\n  n_tail: 2\n");
-  const CommandResult r =
-      runTool("run " + shellQuote(config) + " --out " + dir.quoted() + " --quiet");
+  const CommandResult r = runTool("run " + shellQuote(config) + " --out " +
+                                  shellQuote(dir.path().string()) + " --quiet");
   EXPECT_EQ(r.exit_code, kExitConfigError) << r.output;
   EXPECT_TRUE(contains(r.output, "robot.n_tail")) << r.output;
 }
 
 TEST_F(FlagellaRun, OutOfRangeOverrideExitsTwo) {
   const TempDir out;
-  const CommandResult r =
-      runTool("run " + design1_ + " --set robot.n_tails=0 --out " + out.quoted() + " --quiet");
+  const CommandResult r = runTool("run " + design1_ + " --set robot.n_tails=0 --out " +
+                                  shellQuote(out.path().string()) + " --quiet");
   EXPECT_EQ(r.exit_code, kExitConfigError) << r.output;
   EXPECT_TRUE(contains(r.output, "robot.n_tails")) << r.output;
 }
 
 TEST_F(FlagellaRun, MalformedOverrideExitsTwo) {
   const TempDir out;
-  const CommandResult r =
-      runTool("run " + design1_ + " --set robot.n_tails --out " + out.quoted() + " --quiet");
+  const CommandResult r = runTool("run " + design1_ + " --set robot.n_tails --out " +
+                                  shellQuote(out.path().string()) + " --quiet");
   EXPECT_EQ(r.exit_code, kExitConfigError) << r.output;
   EXPECT_TRUE(contains(r.output, "robot.n_tails")) << r.output;
 }
@@ -224,7 +200,7 @@ TEST_F(FlagellaRun, MalformedOverrideExitsTwo) {
 TEST_F(FlagellaRun, EffectParameterOutOfRangeExitsTwo) {
   const TempDir out;
   const CommandResult r = runTool("run " + design1_ + " --set effects.stokes_head.C_t=-1 --out " +
-                                  out.quoted() + " --quiet");
+                                  shellQuote(out.path().string()) + " --quiet");
   EXPECT_EQ(r.exit_code, kExitConfigError) << r.output;
   EXPECT_TRUE(contains(r.output, "effects.stokes_head.C_t")) << r.output;
 }
@@ -232,7 +208,8 @@ TEST_F(FlagellaRun, EffectParameterOutOfRangeExitsTwo) {
 TEST_F(FlagellaRun, MissingConfigFileFailsWithAClearMessage) {
   const TempDir dir;
   const std::string missing = (dir.path() / "no_such_config.yaml").string();
-  const CommandResult r = runTool("run " + shellQuote(missing) + " --out " + dir.quoted());
+  const CommandResult r =
+      runTool("run " + shellQuote(missing) + " --out " + shellQuote(dir.path().string()));
   EXPECT_NE(r.exit_code, kExitOk) << r.output;
   EXPECT_TRUE(contains(r.output, missing)) << r.output;
   EXPECT_TRUE(contains(r.output, "does not exist") || contains(r.output, "cannot open"))
@@ -243,8 +220,8 @@ TEST_F(FlagellaRun, MissingConfigFileFailsWithAClearMessage) {
 // six decimals).
 TEST_F(FlagellaRun, SmallDtShortcutIsNotRounded) {
   const TempDir out;
-  const CommandResult r =
-      runTool("run " + design1_ + " --dt 5e-7 --duration 2e-6 --out " + out.quoted() + " --quiet");
+  const CommandResult r = runTool("run " + design1_ + " --dt 5e-7 --duration 2e-6 --out " +
+                                  shellQuote(out.path().string()) + " --quiet");
   EXPECT_EQ(r.exit_code, kExitOk) << r.output;
 }
 
@@ -313,7 +290,7 @@ TEST_F(FlagellaRun, SweepWritesOneRowPerCase) {
   const TempDir out;
   const CommandResult r =
       runTool("sweep " + design1_ + " --omega-rpm 50,100 --n-tails 2 --duration 3 --out " +
-              out.quoted() + " --plot-script '' --quiet");
+              shellQuote(out.path().string()) + " --plot-script '' --quiet");
   ASSERT_EQ(r.exit_code, kExitOk) << r.output;
   const fs::path csv = out.path() / "sweep.csv";
   ASSERT_TRUE(fs::exists(csv)) << r.output;
@@ -342,7 +319,7 @@ TEST_F(FlagellaRun, SweepWithInvalidCaseExitsTwo) {
   const TempDir out;
   const CommandResult r =
       runTool("sweep " + design1_ + " --omega-rpm 50 --n-tails 0 --duration 1 --out " +
-              out.quoted() + " --plot-script '' --quiet");
+              shellQuote(out.path().string()) + " --plot-script '' --quiet");
   EXPECT_EQ(r.exit_code, kExitConfigError) << r.output;
   EXPECT_TRUE(contains(r.output, "robot.n_tails")) << r.output;
 }
@@ -357,7 +334,7 @@ TEST_F(FlagellaRun, SolverFailureExitsThreeAndKeepsPartialOutputs) {
   constexpr double kDuration = 3.0;
   const TempDir out;
   const CommandResult r = runTool(
-      "run " + design1_ + " --duration 3 --out " + out.quoted() +
+      "run " + design1_ + " --duration 3 --out " + shellQuote(out.path().string()) +
       " --quiet --set simulation.dt=0.05 --set motor.omega_rpm=10000 --set motor.ramp_time=2"
       " --set solver.max_subdivision_depth=0");
   ASSERT_EQ(r.exit_code, kExitSolverFailure) << r.output;

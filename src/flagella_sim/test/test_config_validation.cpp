@@ -21,11 +21,13 @@
 #include "flagella_sim/effects/interface_lateral_force.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
+#include "support/temp_dir.h"
 
 namespace flagella {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::TempDir;
 
 constexpr char kConfigDir[] = FLAGELLA_CONFIG_DIR;
 constexpr char kDesign1[] = "granular_design1.yaml";
@@ -42,34 +44,6 @@ constexpr double kHeadDragMax = 1e4;
 std::string shippedConfig(const std::string& name) { return std::string(kConfigDir) + "/" + name; }
 
 /// A fresh directory under the system temp dir, removed with everything in it at scope exit.
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    std::random_device rd;
-    const std::string name = "flagella_cfg_test_" + std::to_string(::getpid()) + "_" +
-                             std::to_string(counter++) + "_" + std::to_string(rd());
-    path_ = fs::temp_directory_path() / name;
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  /// Writes `text` to a file in the directory and returns its path.
-  std::string write(const std::string& file, const std::string& text) const {
-    const fs::path p = path_ / file;
-    std::ofstream out(p);
-    out << text;
-    return p.string();
-  }
-
- private:
-  fs::path path_;
-};
 
 /// The sections of a small valid config; tests replace one section at a time.
 struct ConfigSections {
@@ -107,18 +81,8 @@ struct ConfigSections {
   }
 };
 
-/// Runs `fn`, expects a ConfigError and returns its message ("" and a test failure otherwise).
 std::string configErrorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const ConfigError& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected ConfigError, got another exception: " << e.what();
-    return "";
-  }
-  ADD_FAILURE() << "expected ConfigError, nothing was thrown";
-  return "";
+  return testing::errorMessageOf<ConfigError>(fn);
 }
 
 std::string loadError(const std::string& path, const std::vector<std::string>& overrides = {}) {

@@ -89,8 +89,8 @@ void checkGradientAndHessian(const Scenario& s, double h_pos, double h_theta) {
 
 TEST(ElasticDerivatives, StraightRodRandomConfigurations) {
   for (unsigned seed : {1u, 2u, 3u}) {
-    const Scenario s =
-        deformedScenario(testing::makeStraightRod(6, 0.03, testing::vpsMaterial()), seed, 1.5e-3, 0.4);
+    const Scenario s = deformedScenario(testing::makeStraightRod(6, 0.03, testing::vpsMaterial()),
+                                        seed, 1.5e-3, 0.4);
     checkGradientAndHessian(s, 1e-7, 1e-6);
   }
 }
@@ -98,7 +98,8 @@ TEST(ElasticDerivatives, StraightRodRandomConfigurations) {
 TEST(ElasticDerivatives, JunctionWithFlippedEdges) {
   const RodNetwork net = testing::makeJunctionNetwork(testing::vpsMaterial());
   int flipped = 0;
-  for (const BendTwistSpring& sp : net.bend_twist_springs) flipped += (sp.sign_e < 0) + (sp.sign_f < 0);
+  for (const BendTwistSpring& sp : net.bend_twist_springs)
+    flipped += (sp.sign_e < 0) + (sp.sign_f < 0);
   ASSERT_GE(flipped, 3) << "the junction network must exercise flipped edges";
   for (unsigned seed : {4u, 5u, 6u}) {
     const Scenario s = deformedScenario(net, seed, 1.0e-3, 0.3);

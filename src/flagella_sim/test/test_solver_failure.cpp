@@ -17,6 +17,7 @@
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
 #include "flagella_sim/solver/implicit_stepper.h"
+#include "support/temp_dir.h"
 
 namespace flagella {
 namespace {
@@ -96,18 +97,8 @@ bool sameVectors(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
   return ::testing::AssertionSuccess();
 }
 
-/// Runs `fn`, expects SolverFailure and returns its message.
 std::string solverFailureOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const SolverFailure& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected SolverFailure, got: " << e.what();
-    return "";
-  }
-  ADD_FAILURE() << "expected SolverFailure, the step succeeded";
-  return "";
+  return testing::errorMessageOf<SolverFailure>(fn);
 }
 
 bool contains(const std::string& text, const std::string& part) {

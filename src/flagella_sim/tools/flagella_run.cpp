@@ -1,6 +1,5 @@
 // flagella_run: headless runner of the rod-network simulator (run, sweep, beam, params).
 #include <CLI/CLI.hpp>
-
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -17,7 +16,8 @@ void addCommon(CLI::App* app, CommonOptions& o) {
   // Existence is checked by the config loader so that a missing file is an input error (exit 2).
   app->add_option("config", o.config, "robot/run config (YAML), e.g. config/granular_design1.yaml")
       ->required();
-  app->add_option("--set", o.overrides, "override a config field: section.field=value (repeatable)");
+  app->add_option("--set", o.overrides,
+                  "override a config field: section.field=value (repeatable)");
   app->add_option("--out", o.out_dir, "output directory")->capture_default_str();
   app->add_flag("--quiet", o.quiet, "no progress output");
 }
@@ -41,7 +41,9 @@ struct Shortcuts {
     app->add_option("--duration", duration, "simulated time [s]");
   }
   void apply(CLI::App* app, std::vector<std::string>& ov) const {
-    auto given = [&](const char* name) { return app->get_option_no_throw(name) && app->count(name) > 0; };
+    auto given = [&](const char* name) {
+      return app->get_option_no_throw(name) && app->count(name) > 0;
+    };
     if (given("--omega-rpm")) ov.push_back("motor.omega_rpm=" + exact(omega_rpm));
     if (given("--n-tails")) ov.push_back("robot.n_tails=" + std::to_string(n_tails));
     if (given("--tail-length")) ov.push_back("robot.tail_length=" + exact(tail_length));
@@ -58,31 +60,38 @@ int main(int argc, char** argv) {
 
   RunOptions run;
   Shortcuts run_short;
-  CLI::App* run_cmd = app.add_subcommand("run", "simulate one config; write timeseries.csv and summary.json");
+  CLI::App* run_cmd =
+      app.add_subcommand("run", "simulate one config; write timeseries.csv and summary.json");
   addCommon(run_cmd, run);
   run_short.add(run_cmd);
   run_cmd->add_flag("--nodes", run.nodes, "also write all node positions to nodes.csv");
 
   SweepOptions sweep;
   Shortcuts sweep_short;
-  CLI::App* sweep_cmd = app.add_subcommand("sweep", "sweep omega_T and n; write sweep.csv and sweep.png");
+  CLI::App* sweep_cmd =
+      app.add_subcommand("sweep", "sweep omega_T and n; write sweep.csv and sweep.png");
   addCommon(sweep_cmd, sweep);
   sweep_short.add(sweep_cmd, false, false);
-  sweep_cmd->add_option("--omega-rpm", sweep.omega_rpm, "motor speeds [rpm]")->delimiter(',')->required();
+  sweep_cmd->add_option("--omega-rpm", sweep.omega_rpm, "motor speeds [rpm]")
+      ->delimiter(',')
+      ->required();
   sweep_cmd->add_option("--n-tails", sweep.n_tails, "tail counts")->delimiter(',')->required();
   sweep_cmd->add_option("--jobs", sweep.jobs, "parallel runs")->capture_default_str();
   sweep.plot_script = FLAGELLA_PLOT_SCRIPT;
-  sweep_cmd->add_option("--plot-script", sweep.plot_script, "matplotlib plot script ('' to skip)")->capture_default_str();
+  sweep_cmd->add_option("--plot-script", sweep.plot_script, "matplotlib plot script ('' to skip)")
+      ->capture_default_str();
 
   BeamOptions beam;
   Shortcuts beam_short;
-  CLI::App* beam_cmd = app.add_subcommand("beam", "Euler-Bernoulli beam model (spec 6) for a config's design");
+  CLI::App* beam_cmd =
+      app.add_subcommand("beam", "Euler-Bernoulli beam model (spec 6) for a config's design");
   addCommon(beam_cmd, beam);
   beam_short.add(beam_cmd);
   beam_cmd->add_option("--regime", beam.regime, "LB | NLB | NLB-no-head | all")
       ->check(CLI::IsMember({"LB", "NLB", "NLB-no-head", "all"}))
       ->capture_default_str();
-  beam_cmd->add_flag("--compare-rod", beam.compare_rod, "also run the rod model on the same design");
+  beam_cmd->add_flag("--compare-rod", beam.compare_rod,
+                     "also run the rod model on the same design");
 
   CommonOptions params;
   CLI::App* params_cmd = app.add_subcommand("params", "list the named parameters of a config");

@@ -32,16 +32,17 @@ double secondsSince(Clock::time_point t0) {
 // Prints "[ 42%] t = 84.0 / 200 s, 31x real time, ETA 4 s" at most every few seconds.
 class ProgressPrinter {
  public:
-  ProgressPrinter(double duration, bool quiet) : duration_(duration), quiet_(quiet), start_(Clock::now()) {}
+  ProgressPrinter(double duration, bool quiet)
+      : duration_(duration), quiet_(quiet), start_(Clock::now()) {}
   void operator()(double fraction) {
     if (quiet_) return;
     const double wall = secondsSince(start_);
     if (wall - last_ < kProgressPeriodSeconds && fraction < 1.0) return;
     last_ = wall;
     const double rtf = wall > 0 ? fraction * duration_ / wall : 0.0;
-    const double eta = fraction > 0 ? wall * (1.0 - fraction) / fraction : 0.0;
-    std::fprintf(stderr, "[%3.0f%%] t = %.1f / %.1f s, %.0fx real time, ETA %.0f s\n", 100 * fraction,
-                 fraction * duration_, duration_, rtf, eta);
+    const double eta = fraction > 0 ? std::max(0.0, wall * (1.0 - fraction) / fraction) : 0.0;
+    std::fprintf(stderr, "[%3.0f%%] t = %.1f / %.1f s, %.0fx real time, ETA %.0f s\n",
+                 100 * fraction, fraction * duration_, duration_, rtf, eta);
   }
 
  private:
@@ -61,9 +62,9 @@ void printSummary(const SimulationConfig& c, const SummaryMetrics& m, std::ostre
                 "  yaw rate = %.5f rad/s, circle radius = %s\n"
                 "  efficiency = %s\n"
                 "  Newton iterations = %ld, subdivided steps = %ld\n",
-                c.source.c_str(), c.geometry.n_tails, c.motor.omega * kRadPerSecToRpm, m.window_start,
-                m.window_end, m.omega_h * kRadPerSecToRpm, m.omega_h, m.omega_t * kRadPerSecToRpm,
-                m.omega_t, m.speed * 1e3, m.yaw_rate,
+                c.source.c_str(), c.geometry.n_tails, c.motor.omega * kRadPerSecToRpm,
+                m.window_start, m.window_end, m.omega_h * kRadPerSecToRpm, m.omega_h,
+                m.omega_t * kRadPerSecToRpm, m.omega_t, m.speed * 1e3, m.yaw_rate,
                 m.circle_valid ? (std::to_string(m.circle_radius * 1e3) + " mm").c_str() : "n/a",
                 m.efficiency_valid ? std::to_string(m.efficiency).c_str() : "n/a",
                 m.newton_iterations, m.subdivided_steps);
@@ -100,8 +101,9 @@ int runCommand(const RunOptions& o) {
   Simulation sim(config);
   sim.setRecordNodes(o.nodes);
   if (!o.quiet)
-    std::fprintf(stderr, "running %s: %d nodes, %d DOFs, dt = %g s, %g s simulated\n", o.config.c_str(),
-                 sim.network().numNodes(), sim.network().ndof(), config.dt, config.duration);
+    std::fprintf(stderr, "running %s: %d nodes, %d DOFs, dt = %g s, %g s simulated\n",
+                 o.config.c_str(), sim.network().numNodes(), sim.network().ndof(), config.dt,
+                 config.duration);
   const RunResult r = simulate(config, sim, o.quiet);
   writeTrajectoryCsv(o.out_dir + "/timeseries.csv", sim.trajectory());
   if (o.nodes) writeNodesCsv(o.out_dir + "/nodes.csv", sim.trajectory());
@@ -110,8 +112,8 @@ int runCommand(const RunOptions& o) {
   std::printf("  wall time %.2f s, %.1fx real time; outputs in %s/\n", r.wall,
               r.wall > 0 ? sim.time() / r.wall : 0.0, o.out_dir.c_str());
   if (r.failed) {
-    std::fprintf(stderr, "error: solver failure, outputs hold the run up to t = %.3f s: %s\n", sim.time(),
-                 r.error.c_str());
+    std::fprintf(stderr, "error: solver failure, outputs hold the run up to t = %.3f s: %s\n",
+                 sim.time(), r.error.c_str());
     return 3;
   }
   return 0;
@@ -156,10 +158,12 @@ int sweepCommand(const SweepOptions& o) {
       std::lock_guard<std::mutex> lock(mutex);
       ++done;
       if (!o.quiet)
-        std::fprintf(stderr, "[%zu/%zu] n = %d, omega_T = %g rpm: v = %.4f mm/s, omega_h = %.2f rpm (%.1f s)%s\n",
-                     done, cases.size(), cases[i].n, cases[i].rpm, cases[i].result.summary.speed * 1e3,
-                     cases[i].result.summary.omega_h * kRadPerSecToRpm, cases[i].result.wall,
-                     cases[i].result.failed ? " SOLVER FAILURE" : "");
+        std::fprintf(
+            stderr,
+            "[%zu/%zu] n = %d, omega_T = %g rpm: v = %.4f mm/s, omega_h = %.2f rpm (%.1f s)%s\n",
+            done, cases.size(), cases[i].n, cases[i].rpm, cases[i].result.summary.speed * 1e3,
+            cases[i].result.summary.omega_h * kRadPerSecToRpm, cases[i].result.wall,
+            cases[i].result.failed ? " SOLVER FAILURE" : "");
     }
   };
   std::vector<std::thread> threads;
@@ -168,18 +172,21 @@ int sweepCommand(const SweepOptions& o) {
 
   const std::string table = o.out_dir + "/sweep.csv";
   std::ofstream out(table);
-  out << "n_tails,omega_T_rpm,omega_h_rpm,omega_t_rpm,speed_mm_s,yaw_rate_rad_s,efficiency,solver_failure\n";
+  out << "n_tails,omega_T_rpm,omega_h_rpm,omega_t_rpm,speed_mm_s,yaw_rate_rad_s,efficiency,solver_"
+         "failure\n";
   for (const Case& c : cases) {
     const SummaryMetrics& m = c.result.summary;
-    out << c.n << "," << c.rpm << "," << m.omega_h * kRadPerSecToRpm << "," << m.omega_t * kRadPerSecToRpm
-        << "," << m.speed * 1e3 << "," << m.yaw_rate << ","
-        << (m.efficiency_valid ? std::to_string(m.efficiency) : "") << "," << (c.result.failed ? 1 : 0) << "\n";
+    out << c.n << "," << c.rpm << "," << m.omega_h * kRadPerSecToRpm << ","
+        << m.omega_t * kRadPerSecToRpm << "," << m.speed * 1e3 << "," << m.yaw_rate << ","
+        << (m.efficiency_valid ? std::to_string(m.efficiency) : "") << ","
+        << (c.result.failed ? 1 : 0) << "\n";
   }
   out.close();
   std::printf("sweep table: %s\n", table.c_str());
   if (!o.plot_script.empty()) {
     const std::string png = o.out_dir + "/sweep.png";
-    const std::string cmd = "/usr/bin/python3 '" + o.plot_script + "' '" + table + "' '" + png + "'";
+    const std::string cmd =
+        "/usr/bin/python3 '" + o.plot_script + "' '" + table + "' '" + png + "'";
     if (std::system(cmd.c_str()) == 0)
       std::printf("sweep plot: %s\n", png.c_str());
     else
@@ -188,7 +195,8 @@ int sweepCommand(const SweepOptions& o) {
   int status = 0;
   for (const Case& c : cases)
     if (c.result.failed) {
-      std::fprintf(stderr, "error: n = %d, omega_T = %g rpm: %s\n", c.n, c.rpm, c.result.error.c_str());
+      std::fprintf(stderr, "error: n = %d, omega_T = %g rpm: %s\n", c.n, c.rpm,
+                   c.result.error.c_str());
       status = 3;
     }
   return status;
@@ -216,7 +224,8 @@ int beamCommand(const BeamOptions& o) {
   std::vector<beam::BeamRegime> regimes;
   if (o.regime == "LB" || o.regime == "all") regimes.push_back(beam::BeamRegime::kLinear);
   if (o.regime == "NLB" || o.regime == "all") regimes.push_back(beam::BeamRegime::kNonlinear);
-  if (o.regime == "NLB-no-head" || o.regime == "all") regimes.push_back(beam::BeamRegime::kNonlinearWithoutHead);
+  if (o.regime == "NLB-no-head" || o.regime == "all")
+    regimes.push_back(beam::BeamRegime::kNonlinearWithoutHead);
   std::printf("beam model (spec 6), %s, n = %d, omega_T = %.3f rpm\n", o.config.c_str(), d.n_tails,
               omega * kRadPerSecToRpm);
   std::printf("%-14s %12s %12s %14s %12s %14s\n", "model", "omega_h rpm", "omega_t rpm", "v mm/s",
@@ -225,15 +234,18 @@ int beamCommand(const BeamOptions& o) {
     const beam::BeamSolution s = beam::solveBeamModel(d, omega, regime);
     std::printf("%-14s %12.5f %12.5f %14.6g %12.5f %14.6g%s\n", beam::toString(regime).c_str(),
                 s.omega_h * kRadPerSecToRpm, s.omega_t * kRadPerSecToRpm, s.speed * 1e3,
-                s.relative_tip_deflection, s.propulsive_force, s.converged ? "" : "  (not converged)");
+                s.relative_tip_deflection, s.propulsive_force,
+                s.converged ? "" : "  (not converged)");
   }
   if (o.compare_rod) {
     Simulation sim(c);
     const RunResult r = simulate(c, sim, o.quiet);
     const SummaryMetrics& m = r.summary;
-    const double propulsive = d.C_t * 6.0 * M_PI * d.viscosity * d.head_radius * m.speed / d.n_tails;
-    std::printf("%-14s %12.5f %12.5f %14.6g %12s %14.6g\n", "rod (DER)", m.omega_h * kRadPerSecToRpm,
-                m.omega_t * kRadPerSecToRpm, m.speed * 1e3, "-", propulsive);
+    const double propulsive =
+        d.C_t * 6.0 * M_PI * d.viscosity * d.head_radius * m.speed / d.n_tails;
+    std::printf("%-14s %12.5f %12.5f %14.6g %12s %14.6g\n", "rod (DER)",
+                m.omega_h * kRadPerSecToRpm, m.omega_t * kRadPerSecToRpm, m.speed * 1e3, "-",
+                propulsive);
     if (r.failed) return 3;
   }
   return 0;
@@ -245,7 +257,8 @@ int paramsCommand(const CommonOptions& o) {
   std::printf("%-45s %14s %14s %14s  %s\n", "parameter", "value", "min", "max", "unit");
   for (const std::string& name : sim.parameterNames()) {
     const ParameterSpec& p = sim.parameterSpec(name);
-    std::printf("%-45s %14.6g %14.6g %14.6g  %s\n", name.c_str(), p.value, p.min, p.max, p.unit.c_str());
+    std::printf("%-45s %14.6g %14.6g %14.6g  %s\n", name.c_str(), p.value, p.min, p.max,
+                p.unit.c_str());
   }
   return 0;
 }

@@ -9,7 +9,10 @@ namespace flagella {
 
 BinaryMotor::BinaryMotor(double omega, double positive_duration, double negative_duration,
                          double start_time)
-    : omega_(omega), positive_(positive_duration), negative_(negative_duration), start_(start_time) {
+    : omega_(omega),
+      positive_(positive_duration),
+      negative_(negative_duration),
+      start_(start_time) {
   if (!(positive_duration > 0.0)) throw ConfigError("motor.positive_duration must be > 0 s");
   if (!(negative_duration > 0.0)) throw ConfigError("motor.negative_duration must be > 0 s");
 }

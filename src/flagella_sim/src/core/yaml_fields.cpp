@@ -25,9 +25,11 @@ std::string where(const YAML::Node& node) {
 }
 }  // namespace
 
-FieldReader::FieldReader(const YAML::Node& node, std::string path) : node_(node), path_(std::move(path)) {
+FieldReader::FieldReader(const YAML::Node& node, std::string path)
+    : node_(node), path_(std::move(path)) {
   if (node_ && !node_.IsNull() && !node_.IsMap())
-    throw ConfigError((path_.empty() ? std::string("the config") : path_) + " must be a map of fields" + where(node_));
+    throw ConfigError((path_.empty() ? std::string("the config") : path_) +
+                      " must be a map of fields" + where(node_));
 }
 
 bool FieldReader::has(const std::string& key) const {
@@ -55,8 +57,11 @@ double FieldReader::number(const std::string& key, double fallback, double min, 
   return value;
 }
 
-double FieldReader::requiredNumber(const std::string& key, double min, double max, const std::string& unit) {
-  if (!has(key)) throw ConfigError(field(key) + " is required (allowed range [" + formatNumber(min) + ", " + formatNumber(max) + "] " + unit + ")");
+double FieldReader::requiredNumber(const std::string& key, double min, double max,
+                                   const std::string& unit) {
+  if (!has(key))
+    throw ConfigError(field(key) + " is required (allowed range [" + formatNumber(min) + ", " +
+                      formatNumber(max) + "] " + unit + ")");
   return number(key, 0.0, min, max, unit);
 }
 
@@ -68,9 +73,11 @@ int FieldReader::integer(const std::string& key, int fallback, int min, int max)
     value = v.as<int>();
   } catch (const YAML::Exception&) {
     const std::string got = v.IsScalar() ? ", got " + v.as<std::string>() : "";
-    throw ConfigError(field(key) + " must be an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]" + got + where(v));
+    throw ConfigError(field(key) + " must be an integer in [" + std::to_string(min) + ", " +
+                      std::to_string(max) + "]" + got + where(v));
   }
-  if (value < min || value > max) throw ConfigError(rangeMessage(field(key), value, min, max) + where(v));
+  if (value < min || value > max)
+    throw ConfigError(rangeMessage(field(key), value, min, max) + where(v));
   return value;
 }
 
@@ -88,17 +95,20 @@ std::string FieldReader::choice(const std::string& key, const std::string& fallb
                                 const std::vector<std::string>& allowed) {
   const YAML::Node v = get(key);
   if (!v || v.IsNull()) return fallback;
-  if (!v.IsScalar()) throw ConfigError(field(key) + " must be one of: " + joinNames(allowed) + where(v));
+  if (!v.IsScalar())
+    throw ConfigError(field(key) + " must be one of: " + joinNames(allowed) + where(v));
   const std::string value = v.as<std::string>();
   for (const std::string& a : allowed)
     if (a == value) return value;
-  throw ConfigError(field(key) + " must be one of: " + joinNames(allowed) + "; got '" + value + "'" + where(v));
+  throw ConfigError(field(key) + " must be one of: " + joinNames(allowed) + "; got '" + value +
+                    "'" + where(v));
 }
 
 Vec3 FieldReader::vector3(const std::string& key, const Vec3& fallback) {
   const YAML::Node v = get(key);
   if (!v || v.IsNull()) return fallback;
-  if (!v.IsSequence() || v.size() != 3) throw ConfigError(field(key) + " must be a list of 3 numbers" + where(v));
+  if (!v.IsSequence() || v.size() != 3)
+    throw ConfigError(field(key) + " must be a list of 3 numbers" + where(v));
   Vec3 out;
   for (int i = 0; i < 3; ++i) {
     try {
@@ -106,7 +116,8 @@ Vec3 FieldReader::vector3(const std::string& key, const Vec3& fallback) {
     } catch (const YAML::Exception&) {
       throw ConfigError(field(key) + " must be a list of 3 numbers" + where(v));
     }
-    if (!std::isfinite(out(i))) throw ConfigError(field(key) + " must hold finite numbers" + where(v));
+    if (!std::isfinite(out(i)))
+      throw ConfigError(field(key) + " must hold finite numbers" + where(v));
   }
   return out;
 }
@@ -121,10 +132,12 @@ std::vector<double> FieldReader::numberList(const std::string& key, double min, 
     try {
       x = v[i].as<double>();
     } catch (const YAML::Exception&) {
-      throw ConfigError(field(key) + "[" + std::to_string(i) + "] must be a number in [" + formatNumber(min) + ", " + formatNumber(max) + "]" + where(v));
+      throw ConfigError(field(key) + "[" + std::to_string(i) + "] must be a number in [" +
+                        formatNumber(min) + ", " + formatNumber(max) + "]" + where(v));
     }
     if (!std::isfinite(x) || x < min || x > max)
-      throw ConfigError(rangeMessage(field(key) + "[" + std::to_string(i) + "]", x, min, max) + where(v));
+      throw ConfigError(rangeMessage(field(key) + "[" + std::to_string(i) + "]", x, min, max) +
+                        where(v));
     out.push_back(x);
   }
   return out;
@@ -145,7 +158,8 @@ void FieldReader::rejectUnknown() const {
     const std::string key = kv.first.as<std::string>();
     if (!used_.count(key)) {
       std::vector<std::string> allowed(used_.begin(), used_.end());
-      throw ConfigError("unknown field '" + field(key) + "'" + where(kv.first) + " (allowed: " + joinNames(allowed) + ")");
+      throw ConfigError("unknown field '" + field(key) + "'" + where(kv.first) +
+                        " (allowed: " + joinNames(allowed) + ")");
     }
   }
 }
@@ -167,7 +181,8 @@ void applyOverride(YAML::Node& root, const std::string& assignment) {
   // Rebuild without source marks: they would point into the override text, not the file.
   YAML::Node value;
   if (parsed.IsSequence()) {
-    for (const YAML::Node& item : parsed) value.push_back(item.IsScalar() ? YAML::Node(item.as<std::string>()) : item);
+    for (const YAML::Node& item : parsed)
+      value.push_back(item.IsScalar() ? YAML::Node(item.as<std::string>()) : item);
   } else if (parsed.IsScalar()) {
     value = YAML::Node(parsed.as<std::string>());
   } else {

@@ -10,7 +10,8 @@ void ConstantLoad::addEdgeTorque(const RodNetwork& net, int edge, double torque)
   loads_.emplace_back(net.thetaIndex(edge), torque);
 }
 
-void ConstantLoad::addForce(const EffectContext& /*ctx*/, VecX& force, JacobianSink* /*jac*/) const {
+void ConstantLoad::addForce(const EffectContext& /*ctx*/, VecX& force,
+                            JacobianSink* /*jac*/) const {
   for (const auto& [dof, value] : loads_) force(dof) += value;
 }
 

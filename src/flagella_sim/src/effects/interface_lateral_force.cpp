@@ -23,7 +23,8 @@ double integratedLateralCoefficient(double onset_over_radius, double sharpness) 
 
 InterfaceLateralForce::InterfaceLateralForce(double C_yr, double head_radius, double head_length)
     : Effect(kName) {
-  c_yr_ = params_.declare("C_yr", C_yr, -1e4, 1e4, "", "lateral rotation-induced force coefficient");
+  c_yr_ =
+      params_.declare("C_yr", C_yr, -1e4, 1e4, "", "lateral rotation-induced force coefficient");
   radius_ = params_.declare("head_radius", head_radius, 1e-6, 10.0, "m", "head radius R");
   length_ = params_.declare("head_length", head_length, 1e-6, 10.0, "m", "head length L_head");
 }

@@ -17,11 +17,12 @@ std::string toString(RftLogForm form) {
 
 RftCoefficients rftCoefficients(double viscosity, double tail_length, double tail_radius,
                                 RftLogForm form) {
-  const double ratio = (form == RftLogForm::kTwoLengthOverRadius ? 2.0 : 1.0) * tail_length / tail_radius;
+  const double ratio =
+      (form == RftLogForm::kTwoLengthOverRadius ? 2.0 : 1.0) * tail_length / tail_radius;
   const double log_term = std::log(ratio);
   if (log_term <= 0.5)
-    throw std::invalid_argument("RFT needs a slender tail: ln(" + toString(form) + ") = " +
-                                std::to_string(log_term) + " must exceed 0.5");
+    throw std::invalid_argument("RFT needs a slender tail: ln(" + toString(form) +
+                                ") = " + std::to_string(log_term) + " must exceed 0.5");
   // spec 2 (Eq. 2.10/3.3/4.17)
   return {2.0 * M_PI * viscosity / (log_term - 0.5), 4.0 * M_PI * viscosity / (log_term + 0.5)};
 }

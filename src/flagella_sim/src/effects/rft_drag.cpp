@@ -4,8 +4,8 @@ namespace flagella {
 
 RftDrag::RftDrag(RftLogForm form, bool use_interface_profile)
     : Effect(kName), form_(form), use_profile_(use_interface_profile) {
-  drag_scale_ = params_.declare("drag_scale", 1.0, 0.0, 1e3, "",
-                                "multiplier on both RFT drag coefficients");
+  drag_scale_ =
+      params_.declare("drag_scale", 1.0, 0.0, 1e3, "", "multiplier on both RFT drag coefficients");
 }
 
 void RftDrag::attach(const RodNetwork& net) {
@@ -30,7 +30,8 @@ void RftDrag::attach(const RodNetwork& net) {
 RftCoefficients RftDrag::coefficients(const TailNode& n, double viscosity) const {
   if (viscosity != cached_viscosity_) {
     cached_.clear();
-    for (const TailNode& m : nodes_) cached_.push_back(rftCoefficients(viscosity, m.tail_length, m.tail_radius, form_));
+    for (const TailNode& m : nodes_)
+      cached_.push_back(rftCoefficients(viscosity, m.tail_length, m.tail_radius, form_));
     cached_viscosity_ = viscosity;
   }
   return cached_[&n - nodes_.data()];
@@ -80,7 +81,8 @@ void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jaco
       d_self += (F / mu_factor) * (dfactor * ctx.medium.up).transpose();
     }
     // Geometric part (spec 2): dF/dthat, dthat/ds, ds/dx.
-    const Mat3 dF_dthat = -n.voronoi_length * (eta_t - eta_p) * (that.dot(v) * I + that * v.transpose());
+    const Mat3 dF_dthat =
+        -n.voronoi_length * (eta_t - eta_p) * (that.dot(v) * I + that * v.transpose());
     const Mat3 dthat_ds = (I - that * that.transpose()) / s_norm;
     const Mat3 dF_ds = dF_dthat * dthat_ds;
     Mat3 ds_dprev = Mat3::Zero(), ds_dnext = Mat3::Zero();

@@ -37,8 +37,10 @@ SpringMatrix nodeHessian(const EdgeMatrix& h) {
   out.block<3, 3>(6, 3) = fe - ff;
   out.block<3, 3>(6, 6) = ff;
   for (int k = 0; k < 2; ++k) {
-    const Eigen::Matrix<double, 3, 1> e_th = h.block<3, 1>(0, 6 + k), f_th = h.block<3, 1>(3, 6 + k);
-    const Eigen::Matrix<double, 9, 1> col = (Eigen::Matrix<double, 9, 1>() << -e_th, e_th - f_th, f_th).finished();
+    const Eigen::Matrix<double, 3, 1> e_th = h.block<3, 1>(0, 6 + k),
+                                      f_th = h.block<3, 1>(3, 6 + k);
+    const Eigen::Matrix<double, 9, 1> col =
+        (Eigen::Matrix<double, 9, 1>() << -e_th, e_th - f_th, f_th).finished();
     out.block<9, 1>(0, 9 + k) = col;
     out.block<1, 9>(9 + k, 0) = col.transpose();
     out(9 + k, 9) = h(6 + k, 6);
@@ -93,9 +95,10 @@ CurvatureDerivatives curvatureDerivatives(const SpringGeometry& g, bool with_hes
   d.hess1.block<3, 3>(3, 3) =
       (2.0 * k1 * tt_tt + te_x_mt2 * tt.transpose() + tt * te_x_mt2.transpose()) / (lf * lf) -
       k1 / (chi * lf * lf) * pf + sym(g.kb, g.m2f) / (4.0 * lf * lf);
-  const Mat3 h1_ef = -k1 / (chi * le * lf) * cross_ef +
-                     (2.0 * k1 * tt_tt - tf_x_mt2 * tt.transpose() + tt * te_x_mt2.transpose() -
-                      skew(mt2)) / (le * lf);
+  const Mat3 h1_ef =
+      -k1 / (chi * le * lf) * cross_ef +
+      (2.0 * k1 * tt_tt - tf_x_mt2 * tt.transpose() + tt * te_x_mt2.transpose() - skew(mt2)) /
+          (le * lf);
   d.hess1.block<3, 3>(0, 3) = h1_ef;
   d.hess1.block<3, 3>(3, 0) = h1_ef.transpose();
   d.hess1(6, 6) = -0.5 * g.kb.dot(g.m2e);
@@ -108,9 +111,10 @@ CurvatureDerivatives curvatureDerivatives(const SpringGeometry& g, bool with_hes
   d.hess2.block<3, 3>(3, 3) =
       (2.0 * k2 * tt_tt - te_x_mt1 * tt.transpose() - tt * te_x_mt1.transpose()) / (lf * lf) -
       k2 / (chi * lf * lf) * pf - sym(g.kb, g.m1f) / (4.0 * lf * lf);
-  const Mat3 h2_ef = -k2 / (chi * le * lf) * cross_ef +
-                     (2.0 * k2 * tt_tt + tf_x_mt1 * tt.transpose() - tt * te_x_mt1.transpose() +
-                      skew(mt1)) / (le * lf);
+  const Mat3 h2_ef =
+      -k2 / (chi * le * lf) * cross_ef +
+      (2.0 * k2 * tt_tt + tf_x_mt1 * tt.transpose() - tt * te_x_mt1.transpose() + skew(mt1)) /
+          (le * lf);
   d.hess2.block<3, 3>(0, 3) = h2_ef;
   d.hess2.block<3, 3>(3, 0) = h2_ef.transpose();
   d.hess2(6, 6) = 0.5 * g.kb.dot(g.m1e);
@@ -190,7 +194,8 @@ double bendTwistEnergy(const RodNetwork& net, const VecX& q, const ReferenceFram
   double energy = 0.0;
   for (size_t i = 0; i < net.bend_twist_springs.size(); ++i) {
     const BendTwistSpring& s = net.bend_twist_springs[i];
-    energy += bendTwistTerms(springGeometry(net, s, q, frames, static_cast<int>(i)), s, false).energy;
+    energy +=
+        bendTwistTerms(springGeometry(net, s, q, frames, static_cast<int>(i)), s, false).energy;
   }
   return energy;
 }

@@ -7,7 +7,7 @@ double stretchingEnergy(const RodNetwork& net, const VecX& q) {
   for (const StretchSpring& s : net.stretch_springs) {
     const EdgeDef& e = net.edges[s.edge];
     const double len = (nodePosition(q, e.end_node) - nodePosition(q, e.start_node)).norm();
-    const double strain = len / s.rest_length - 1.0;  // spec 1.3
+    const double strain = len / s.rest_length - 1.0;         // spec 1.3
     energy += 0.5 * s.EA * strain * strain * s.rest_length;  // spec 1.4
   }
   return energy;

@@ -33,9 +33,9 @@ void writeTrajectoryCsv(const std::string& path, const std::vector<TrajectorySam
     out << s.time << "," << s.head_position.x() << "," << s.head_position.y() << ","
         << s.head_position.z() << "," << q.w() << "," << q.x() << "," << q.y() << "," << q.z()
         << "," << s.head_axis.x() << "," << s.head_axis.y() << "," << s.head_axis.z() << ","
-        << s.omega_h << "," << s.omega_t << "," << s.omega_T << "," << s.head_velocity.norm()
-        << "," << s.yaw << "," << s.yaw_rate << "," << s.head_angle << "," << s.tail_angle << "," << s.newton_iterations << ","
-        << s.subdivided_steps << "\n";
+        << s.omega_h << "," << s.omega_t << "," << s.omega_T << "," << s.head_velocity.norm() << ","
+        << s.yaw << "," << s.yaw_rate << "," << s.head_angle << "," << s.tail_angle << ","
+        << s.newton_iterations << "," << s.subdivided_steps << "\n";
   }
 }
 
@@ -69,9 +69,11 @@ std::string summaryJson(const SimulationConfig& c, const SummaryMetrics& m, doub
   j["net_speed_m_s"] = m.net_speed;
   j["path_speed_m_s"] = m.path_speed;
   j["yaw_rate_rad_s"] = m.yaw_rate;
-  j["circle_radius_m"] = m.circle_valid ? nlohmann::ordered_json(m.circle_radius) : nlohmann::ordered_json(nullptr);
+  j["circle_radius_m"] =
+      m.circle_valid ? nlohmann::ordered_json(m.circle_radius) : nlohmann::ordered_json(nullptr);
   j["axis_path_angle_deg"] = m.axis_path_angle * 180.0 / M_PI;
-  j["efficiency"] = m.efficiency_valid ? nlohmann::ordered_json(m.efficiency) : nlohmann::ordered_json(nullptr);
+  j["efficiency"] =
+      m.efficiency_valid ? nlohmann::ordered_json(m.efficiency) : nlohmann::ordered_json(nullptr);
   j["newton_iterations"] = m.newton_iterations;
   j["subdivided_steps"] = m.subdivided_steps;
   j["wall_time_s"] = wall_seconds;

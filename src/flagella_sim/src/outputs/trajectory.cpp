@@ -65,11 +65,12 @@ SummaryMetrics summarize(const std::vector<TrajectorySample>& samples, const Sum
   m.net_speed = (b.head_position - a.head_position).norm() / span;
   m.speed = fitLine(t, forward).slope;
   m.yaw_rate = fitLine(t, unwrapAngles(yaw)).slope;  // spec 7.1: omega_yr = d psi/dt
-  const CircleFit circle = fitCircle(horizontal);   // spec 7.1: R_yr
+  const CircleFit circle = fitCircle(horizontal);    // spec 7.1: R_yr
   m.circle_valid = circle.valid;
   m.circle_radius = circle.valid ? circle.radius : 0.0;
   if (in.C_r > 0.0 && in.head_radius > 0.0 && m.omega_h > 0.0) {
-    m.efficiency = 3.0 * in.C_t * m.speed / (4.0 * in.C_r * in.head_radius * m.omega_h);  // spec 7.1 (Eq. 2.18)
+    m.efficiency = 3.0 * in.C_t * m.speed /
+                   (4.0 * in.C_r * in.head_radius * m.omega_h);  // spec 7.1 (Eq. 2.18)
     m.efficiency_valid = true;
   }
   m.newton_iterations = samples.back().newton_iterations;

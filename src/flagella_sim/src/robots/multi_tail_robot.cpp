@@ -13,9 +13,12 @@ double perTail(const std::vector<double>& v, int k) { return v.empty() ? 1.0 : v
 RodNetwork buildMultiTailRobot(const MultiTailGeometry& g) {
   if (g.n_tails < 1) throw ConfigError(rangeMessage("robot.n_tails", g.n_tails, 1, 64));
   if (!g.tail_length_scale.empty() && static_cast<int>(g.tail_length_scale.size()) != g.n_tails)
-    throw ConfigError("robot.tail_length_scale needs one entry per tail (" + std::to_string(g.n_tails) + ")");
-  if (!g.tail_stiffness_scale.empty() && static_cast<int>(g.tail_stiffness_scale.size()) != g.n_tails)
-    throw ConfigError("robot.tail_stiffness_scale needs one entry per tail (" + std::to_string(g.n_tails) + ")");
+    throw ConfigError("robot.tail_length_scale needs one entry per tail (" +
+                      std::to_string(g.n_tails) + ")");
+  if (!g.tail_stiffness_scale.empty() &&
+      static_cast<int>(g.tail_stiffness_scale.size()) != g.n_tails)
+    throw ConfigError("robot.tail_stiffness_scale needs one entry per tail (" +
+                      std::to_string(g.n_tails) + ")");
 
   NetworkBuilder b;
   const RodMaterial& m = g.tail_material;
@@ -65,7 +68,8 @@ RodNetwork buildMultiTailRobot(const MultiTailGeometry& g) {
     }
     // spec 8.1 [ASSUMED]: the tail root is glued into the plate, so the root spring is rigid
     b.addBendTwistSpring(spokes[k], edges.front(), m, g.rigid_factor);
-    for (size_t j = 0; j + 1 < edges.size(); ++j) b.addBendTwistSpring(edges[j], edges[j + 1], tail);
+    for (size_t j = 0; j + 1 < edges.size(); ++j)
+      b.addBendTwistSpring(edges[j], edges[j + 1], tail);
     parts.tail_nodes.push_back(nodes);
     parts.tail_edges.push_back(edges);
   }

@@ -57,7 +57,9 @@ int NetworkBuilder::addBendTwistSpring(int edge_e, int edge_f, const RodMaterial
   return static_cast<int>(springs_.size()) - 1;
 }
 
-void NetworkBuilder::setNodeMass(int node, double mass) { mass_overrides_.emplace_back(node, mass); }
+void NetworkBuilder::setNodeMass(int node, double mass) {
+  mass_overrides_.emplace_back(node, mass);
+}
 
 RodNetwork NetworkBuilder::build(int root_edge) const {
   RodNetwork net;
@@ -88,7 +90,8 @@ RodNetwork NetworkBuilder::build(int root_edge) const {
       net.lumped_mass.segment<3>(3 * node).array() += 0.5 * edge_mass;
     net.lumped_mass(net.thetaIndex(j)) = 0.5 * edge_mass * m.radius * m.radius;
   }
-  for (const auto& [node, mass] : mass_overrides_) net.lumped_mass.segment<3>(3 * node).setConstant(mass);
+  for (const auto& [node, mass] : mass_overrides_)
+    net.lumped_mass.segment<3>(3 * node).setConstant(mass);
   net.fixed_dof.assign(net.ndof(), false);
 
   // Natural strains from the undeformed configuration at t = 0 (spec 1.4).

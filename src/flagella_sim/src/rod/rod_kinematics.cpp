@@ -70,8 +70,9 @@ ReferenceFrames initialFrames(const RodNetwork& net, const VecX& q, int root_edg
     }
   }
   for (int j = 0; j < ne; ++j) {
-    if (!done[j]) throw std::invalid_argument("rod network is not connected: edge " +
-                                              std::to_string(j) + " unreachable");
+    if (!done[j])
+      throw std::invalid_argument("rod network is not connected: edge " + std::to_string(j) +
+                                  " unreachable");
     fr.d2[j] = fr.tangent[j].cross(fr.d1[j]);
   }
   fr.reference_twist.resize(net.bend_twist_springs.size());
@@ -133,7 +134,8 @@ SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& sp, 
   g.m2e = -se * d1e + ce * d2e;
   g.m1f = cf * d1f + sf * d2f;
   g.m2f = -sf * d1f + cf * d2f;
-  // spec 1.3: kb = 2 (t_e x t_f) / (1 + t_e.t_f), kappa1 = 1/2 (m2e+m2f).kb, kappa2 = -1/2 (m1e+m1f).kb
+  // spec 1.3: kb = 2 (t_e x t_f) / (1 + t_e.t_f), kappa1 = 1/2 (m2e+m2f).kb, kappa2 = -1/2
+  // (m1e+m1f).kb
   g.kb = 2.0 * g.te.cross(g.tf) / (1.0 + g.te.dot(g.tf));
   g.kappa1 = 0.5 * (g.m2e + g.m2f).dot(g.kb);
   g.kappa2 = -0.5 * (g.m1e + g.m1f).dot(g.kb);

@@ -12,7 +12,8 @@ namespace {
 EffectPtr construct(const EffectSpec& spec, const SimulationConfig& c) {
   if (spec.name == RftDrag::kName)
     return std::make_unique<RftDrag>(parseRftLogForm(spec.log_form), spec.use_interface_profile);
-  if (spec.name == StokesHeadDrag::kName) return std::make_unique<StokesHeadDrag>(1.0, 1.0, c.head_radius);
+  if (spec.name == StokesHeadDrag::kName)
+    return std::make_unique<StokesHeadDrag>(1.0, 1.0, c.head_radius);
   if (spec.name == InterfaceLateralForce::kName) {
     double c_yr = 0.0;
     if (spec.lateral_mode == "integrated") {
@@ -22,7 +23,8 @@ EffectPtr construct(const EffectSpec& spec, const SimulationConfig& c) {
     }
     return std::make_unique<InterfaceLateralForce>(c_yr, c.head_radius, c.head_length);
   }
-  if (spec.name == Gravity::kName) return std::make_unique<Gravity>(c.geometry.tail_material.density);
+  if (spec.name == Gravity::kName)
+    return std::make_unique<Gravity>(c.geometry.tail_material.density);
   throw ConfigError("unknown effect '" + spec.name + "'");
 }
 
@@ -31,8 +33,11 @@ EffectPtr construct(const EffectSpec& spec, const SimulationConfig& c) {
 EffectPtr makeEffect(const EffectSpec& spec, const SimulationConfig& config) {
   EffectPtr effect = construct(spec, config);
   for (const auto& [name, value] : spec.parameters) {
-    if (spec.name == InterfaceLateralForce::kName && spec.lateral_mode == "integrated" && name == "C_yr")
-      throw ConfigError("effects.interface_lateral_force.C_yr is computed in mode 'integrated'; remove it or use mode 'fitted'");
+    if (spec.name == InterfaceLateralForce::kName && spec.lateral_mode == "integrated" &&
+        name == "C_yr")
+      throw ConfigError(
+          "effects.interface_lateral_force.C_yr is computed in mode 'integrated'; remove it or use "
+          "mode 'fitted'");
     effect->parameters().set(name, value, "effects." + spec.name);
   }
   return effect;

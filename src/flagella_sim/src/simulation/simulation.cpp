@@ -25,7 +25,8 @@ constexpr double kSampleTimeSlack = 1e-9;
 std::shared_ptr<const MotorCommand> makeMotor(const MotorSpec& spec) {
   std::shared_ptr<const MotorCommand> motor;
   if (spec.mode == "binary")
-    motor = std::make_shared<BinaryMotor>(spec.omega, spec.positive_duration, spec.negative_duration);
+    motor =
+        std::make_shared<BinaryMotor>(spec.omega, spec.positive_duration, spec.negative_duration);
   else
     motor = std::make_shared<ConstantMotor>(spec.omega);
   if (spec.ramp_time > 0.0) motor = std::make_shared<RampedMotor>(motor, spec.ramp_time);
@@ -34,7 +35,8 @@ std::shared_ptr<const MotorCommand> makeMotor(const MotorSpec& spec) {
 
 Simulation::Simulation(const SimulationConfig& config)
     : config_(config),
-      stepper_(buildMultiTailRobot(config.geometry), makeEffects(config), config.medium, config.solver),
+      stepper_(buildMultiTailRobot(config.geometry), makeEffects(config), config.medium,
+               config.solver),
       motor_(makeMotor(config.motor)),
       state_(stepper_.initialState()) {
   recordSample();
@@ -87,7 +89,8 @@ TrajectorySample Simulation::sample() const {
   const Vec3& up = stepper_.medium().up;
   const Vec3 e1 = anyPerpendicular(up);
   const Vec3 e2 = up.cross(e1);
-  const Vec3 edge = nodePosition(state_.q, parts.head_center_node) - nodePosition(state_.q, parts.head_front_node);
+  const Vec3 edge = nodePosition(state_.q, parts.head_center_node) -
+                    nodePosition(state_.q, parts.head_front_node);
   const Vec3 edge_rate = state_.qdot.segment<3>(3 * parts.head_center_node) -
                          state_.qdot.segment<3>(3 * parts.head_front_node);
   const Vec3 axis_rate = (edge_rate - axis.dot(edge_rate) * axis) / edge.norm();
@@ -105,7 +108,8 @@ TrajectorySample Simulation::sample() const {
 }
 
 void Simulation::recordFinalSample() {
-  if (trajectory_.empty() || trajectory_.back().time + kSampleTimeSlack < state_.time) recordSample();
+  if (trajectory_.empty() || trajectory_.back().time + kSampleTimeSlack < state_.time)
+    recordSample();
 }
 
 void Simulation::recordSample() {
@@ -142,10 +146,12 @@ ParameterSet& Simulation::parameterOwner(const std::string& name, std::string& l
         local = rest.substr(dot + 1);
         return e->parameters();
       }
-      throw ConfigError("parameter '" + name + "': effect '" + rest.substr(0, dot) + "' is not switched on");
+      throw ConfigError("parameter '" + name + "': effect '" + rest.substr(0, dot) +
+                        "' is not switched on");
     }
   }
-  throw ConfigError("parameter '" + name + "' must look like medium.<name> or effects.<effect>.<name>");
+  throw ConfigError("parameter '" + name +
+                    "' must look like medium.<name> or effects.<effect>.<name>");
 }
 
 double Simulation::parameter(const std::string& name) const {
@@ -170,9 +176,11 @@ void Simulation::setParameter(const std::string& name, double value) {
 
 std::vector<std::string> Simulation::parameterNames() const {
   std::vector<std::string> names;
-  for (const ParameterSpec& p : stepper_.medium().parameters().specs()) names.push_back("medium." + p.name);
+  for (const ParameterSpec& p : stepper_.medium().parameters().specs())
+    names.push_back("medium." + p.name);
   for (const EffectPtr& e : stepper_.effects())
-    for (const ParameterSpec& p : e->parameters().specs()) names.push_back("effects." + e->name() + "." + p.name);
+    for (const ParameterSpec& p : e->parameters().specs())
+      names.push_back("effects." + e->name() + "." + p.name);
   return names;
 }
 

@@ -4,9 +4,8 @@
 #include <fstream>
 #include <limits>
 
-#include "flagella_sim/simulation/effect_factory.h"
-
 #include "flagella_sim/core/yaml_fields.h"
+#include "flagella_sim/simulation/effect_factory.h"
 
 namespace flagella {
 
@@ -23,7 +22,8 @@ void parseRobot(FieldReader r, SimulationConfig& c) {
   const bool has_edges = r.has("tail_edges");
   const bool has_dl = r.has("tail_edge_length");
   if (has_edges && has_dl)
-    throw ConfigError(r.field("tail_edges") + " and " + r.field("tail_edge_length") + " are exclusive: give one");
+    throw ConfigError(r.field("tail_edges") + " and " + r.field("tail_edge_length") +
+                      " are exclusive: give one");
   g.tail_edges = r.integer("tail_edges", 27, 2, 2000);
   if (has_dl) {
     const double dl = r.number("tail_edge_length", 4.11e-3, 1e-5, 1.0, "m");
@@ -43,9 +43,11 @@ void parseRobot(FieldReader r, SimulationConfig& c) {
   g.tail_stiffness_scale = r.numberList("tail_stiffness_scale", 1e-3, 1e3);
   for (const auto* list : {&g.tail_length_scale, &g.tail_stiffness_scale})
     if (!list->empty() && static_cast<int>(list->size()) != g.n_tails)
-      throw ConfigError(r.field(list == &g.tail_length_scale ? "tail_length_scale" : "tail_stiffness_scale") +
-                        " needs one entry per tail (n_tails = " + std::to_string(g.n_tails) + ")");
-  if (g.tail_length / g.tail_edges < 1e-5) throw ConfigError(r.field("tail_edges") + " gives edges shorter than 10 um");
+      throw ConfigError(
+          r.field(list == &g.tail_length_scale ? "tail_length_scale" : "tail_stiffness_scale") +
+          " needs one entry per tail (n_tails = " + std::to_string(g.n_tails) + ")");
+  if (g.tail_length / g.tail_edges < 1e-5)
+    throw ConfigError(r.field("tail_edges") + " gives edges shorter than 10 um");
   r.rejectUnknown();
 }
 
@@ -75,12 +77,14 @@ EffectSpec parseEffect(FieldReader r, const std::string& name) {
     e.log_form = r.choice("log_form", "2L/r0", {"2L/r0", "L/r0"});
     e.use_interface_profile = r.flag("use_interface_profile", false);
   }
-  if (name == "interface_lateral_force") e.lateral_mode = r.choice("mode", "fitted", {"fitted", "integrated"});
+  if (name == "interface_lateral_force")
+    e.lateral_mode = r.choice("mode", "fitted", {"fitted", "integrated"});
   // Ranges of parameters are the effect's own (checked when the effect is built).
   constexpr double kAnyFinite = std::numeric_limits<double>::max();
   for (const std::string& key : r.keys()) {
-    const bool structural = (name == "rft" && (key == "log_form" || key == "use_interface_profile")) ||
-                            (name == "interface_lateral_force" && key == "mode");
+    const bool structural =
+        (name == "rft" && (key == "log_form" || key == "use_interface_profile")) ||
+        (name == "interface_lateral_force" && key == "mode");
     if (structural) continue;
     e.parameters.emplace_back(key, r.number(key, 0.0, -kAnyFinite, kAnyFinite));
   }
@@ -140,7 +144,8 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
 }  // namespace
 
 const std::vector<std::string>& knownEffectNames() {
-  static const std::vector<std::string> names{"rft", "stokes_head", "interface_lateral_force", "gravity"};
+  static const std::vector<std::string> names{"rft", "stokes_head", "interface_lateral_force",
+                                              "gravity"};
   return names;
 }
 
@@ -158,7 +163,8 @@ SimulationConfig parseSimulationConfig(const YAML::Node& root, const std::string
   return c;
 }
 
-SimulationConfig loadSimulationConfig(const std::string& path, const std::vector<std::string>& overrides) {
+SimulationConfig loadSimulationConfig(const std::string& path,
+                                      const std::vector<std::string>& overrides) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);

@@ -61,8 +61,9 @@ RodState ImplicitStepper::initialState() const {
 double ImplicitStepper::scaledResidual(const VecX& f) const {
   const int npos = 3 * net_.numNodes();
   const double force = f.head(npos).cwiseAbs().maxCoeff() / options_.force_scale;
-  const double moment =
-      net_.numEdges() > 0 ? f.tail(net_.numEdges()).cwiseAbs().maxCoeff() / options_.moment_scale : 0.0;
+  const double moment = net_.numEdges() > 0
+                            ? f.tail(net_.numEdges()).cwiseAbs().maxCoeff() / options_.moment_scale
+                            : 0.0;
   return std::max(force, moment);
 }
 
@@ -70,7 +71,8 @@ void ImplicitStepper::applyFixedDofs(SparseMatrix& J, VecX& f) const {
   // Dirichlet DOFs: zero row and column, unit diagonal, zero residual (spec 1.10).
   for (int col = 0; col < J.outerSize(); ++col)
     for (SparseMatrix::InnerIterator it(J, col); it; ++it)
-      if (net_.fixed_dof[it.row()] || net_.fixed_dof[col]) it.valueRef() = it.row() == col ? 1.0 : 0.0;
+      if (net_.fixed_dof[it.row()] || net_.fixed_dof[col])
+        it.valueRef() = it.row() == col ? 1.0 : 0.0;
   for (int i = 0; i < f.size(); ++i)
     if (net_.fixed_dof[i]) f(i) = 0.0;
 }
@@ -108,10 +110,12 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
     for (int i = 0; i < residual_.size(); ++i)
       if (net_.fixed_dof[i]) residual_(i) = 0.0;
   }
-  return residual_.allFinite() ? scaledResidual(residual_) : std::numeric_limits<double>::infinity();
+  return residual_.allFinite() ? scaledResidual(residual_)
+                               : std::numeric_limits<double>::infinity();
 }
 
-ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, double motor_offset) {
+ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt,
+                                                    double motor_offset) {
   Attempt attempt;
   if (net_.parts.motor_spring >= 0)
     net_.bend_twist_springs[net_.parts.motor_spring].tau_bar = motor_tau_bar0_ + motor_offset;
@@ -127,7 +131,8 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
     attempt.residual = evaluate(state, q, dt, frames, iter == 0);
     have_jacobian = iter == 0;
     attempt.iterations = iter;
-    if (options_.trace) std::fprintf(stderr, "t=%.4f iter %d residual %.3e\n", state.time, iter, attempt.residual);
+    if (options_.trace)
+      std::fprintf(stderr, "t=%.4f iter %d residual %.3e\n", state.time, iter, attempt.residual);
     if (!std::isfinite(attempt.residual)) return attempt;
     if (attempt.residual < options_.residual_tolerance) {
       attempt.converged = true;
@@ -148,7 +153,8 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
     const VecX dq = lu_.solve(residual_);
     if (!dq.allFinite()) return attempt;
     q -= dq;
-    if (stepNorm(dq) < options_.step_tolerance && attempt.residual < kStagnationResidualFactor * options_.residual_tolerance) {
+    if (stepNorm(dq) < options_.step_tolerance &&
+        attempt.residual < kStagnationResidualFactor * options_.residual_tolerance) {
       // Round-off-level update with a nearly converged residual: accept (NewtonOptions).
       attempt.converged = true;
       state.qdot = (q - q0) / dt;
@@ -180,9 +186,9 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, const Moto
   }
   if (depth >= options_.max_subdivision_depth) {
     std::ostringstream msg;
-    msg << "Newton did not converge at t = " << state.time << " s with dt = " << dt
-        << " s after " << depth << " subdivisions (scaled residual " << a.residual
-        << ", tolerance " << options_.residual_tolerance << ")";
+    msg << "Newton did not converge at t = " << state.time << " s with dt = " << dt << " s after "
+        << depth << " subdivisions (scaled residual " << a.residual << ", tolerance "
+        << options_.residual_tolerance << ")";
     throw SolverFailure(msg.str());
   }
   RodState half = state;
@@ -207,16 +213,19 @@ StepReport ImplicitStepper::step(RodState& state, double dt, const MotorCommand&
   } catch (const SolverFailure& e) {
     // Leave the network as it was before the rejected step (motor natural twist included).
     if (net_.parts.motor_spring >= 0)
-      net_.bend_twist_springs[net_.parts.motor_spring].tau_bar = motor_tau_bar0_ + state.motor_twist_offset;
+      net_.bend_twist_springs[net_.parts.motor_spring].tau_bar =
+          motor_tau_bar0_ + state.motor_twist_offset;
     std::ostringstream msg;
     msg << "step from t = " << state.time << " s with dt = " << dt << " s failed: " << e.what();
     throw SolverFailure(msg.str());
   }
 }
 
-VecX ImplicitStepper::externalForce(const RodState& state, const RodState& previous, double dt) const {
+VecX ImplicitStepper::externalForce(const RodState& state, const RodState& previous,
+                                    double dt) const {
   VecX external = VecX::Zero(net_.ndof());
-  const EffectContext ctx{net_, state.q, state.frames, previous.q, previous.qdot, dt, state.time, medium_};
+  const EffectContext ctx{net_,          state.q, state.frames, previous.q,
+                          previous.qdot, dt,      state.time,   medium_};
   for (const EffectPtr& e : effects_) e->addForce(ctx, external, nullptr);
   return external;
 }

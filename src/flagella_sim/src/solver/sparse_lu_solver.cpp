@@ -68,7 +68,8 @@ bool SparseLuSolver::factorize(const SparseMatrix& A) {
 
 VecX SparseLuSolver::solve(const VecX& b) {
   VecX x = b;
-  if (!impl_->numeric || !klu_solve(impl_->symbolic, impl_->numeric, impl_->n, 1, x.data(), &impl_->common))
+  if (!impl_->numeric ||
+      !klu_solve(impl_->symbolic, impl_->numeric, impl_->n, 1, x.data(), &impl_->common))
     x.setConstant(std::numeric_limits<double>::quiet_NaN());
   return x;
 }

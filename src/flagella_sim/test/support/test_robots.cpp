@@ -30,12 +30,12 @@ RodNetwork makeJunctionNetwork(const RodMaterial& material) {
   const int s3 = b.addNode(Vec3(-0.005, -0.0087, -0.001));
   const int t1 = b.addNode(Vec3(0.012, 0.003, 0.011));
   const int t2 = b.addNode(Vec3(-0.004, 0.0095, 0.012));
-  const int e0 = b.addEdge(a0, a1, material);   // into the chain
-  const int e1 = b.addEdge(a1, c, material);    // into the junction
-  const int k1 = b.addEdge(c, s1, material);    // spokes leave the junction
+  const int e0 = b.addEdge(a0, a1, material);  // into the chain
+  const int e1 = b.addEdge(a1, c, material);   // into the junction
+  const int k1 = b.addEdge(c, s1, material);   // spokes leave the junction
   const int k2 = b.addEdge(c, s2, material);
-  const int k3 = b.addEdge(s3, c, material);    // stored pointing into the junction
-  const int f1 = b.addEdge(t1, s1, material);   // tail edge stored backwards
+  const int k3 = b.addEdge(s3, c, material);   // stored pointing into the junction
+  const int f1 = b.addEdge(t1, s1, material);  // tail edge stored backwards
   const int f2 = b.addEdge(s2, t2, material);
   b.addBendTwistSpring(e0, e1, material);
   b.addBendTwistSpring(e1, k1, material);

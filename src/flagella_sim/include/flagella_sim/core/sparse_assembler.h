@@ -32,8 +32,8 @@ class SparseAssembler {
   template <int N>
   void addDense(const int* idx, const double* sign, const Eigen::Matrix<double, N, N>& m) {
     const size_t end = cursor_ + N * N;
-    if (!recording_ && end <= rows_.size() && rows_[cursor_] == idx[0] && cols_[cursor_] == idx[0] &&
-        rows_[end - 1] == idx[N - 1] && cols_[end - 1] == idx[N - 1]) {
+    if (!recording_ && end <= rows_.size() && rows_[cursor_] == idx[0] &&
+        cols_[cursor_] == idx[0] && rows_[end - 1] == idx[N - 1] && cols_[end - 1] == idx[N - 1]) {
       const int* slot = slot_.data() + cursor_;
       for (int b = 0; b < N; ++b)
         for (int a = 0; a < N; ++a) values_ptr_[*slot++] += sign[a] * sign[b] * m(a, b);

@@ -21,7 +21,8 @@ class FieldReader {
   bool has(const std::string& key) const;
   double number(const std::string& key, double fallback, double min, double max,
                 const std::string& unit = "");
-  double requiredNumber(const std::string& key, double min, double max, const std::string& unit = "");
+  double requiredNumber(const std::string& key, double min, double max,
+                        const std::string& unit = "");
   int integer(const std::string& key, int fallback, int min, int max);
   bool flag(const std::string& key, bool fallback);
   std::string choice(const std::string& key, const std::string& fallback,
@@ -32,7 +33,9 @@ class FieldReader {
   /// Keys of the map (for maps whose keys are names, e.g. the effects list).
   std::vector<std::string> keys() const;
   const std::string& path() const { return path_; }
-  std::string field(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  std::string field(const std::string& key) const {
+    return path_.empty() ? key : path_ + "." + key;
+  }
 
   /// Throws ConfigError if the map holds a key nothing asked for.
   void rejectUnknown() const;

@@ -16,17 +16,19 @@ namespace flagella {
 /// What an effect sees during one Newton iterate of the step t_k -> t_{k+1}.
 struct EffectContext {
   const RodNetwork& net;
-  const VecX& q;                 ///< current iterate of q(t_{k+1})
+  const VecX& q;                  ///< current iterate of q(t_{k+1})
   const ReferenceFrames& frames;  ///< frames at q
-  const VecX& q_start;           ///< q(t_k)
-  const VecX& qdot_start;        ///< qdot(t_k)
+  const VecX& q_start;            ///< q(t_k)
+  const VecX& qdot_start;         ///< qdot(t_k)
   double dt = 0.0;
   double time = 0.0;  ///< t_{k+1}
   const Medium& medium;
 
   /// Implicit velocity of DOF i: (q_i - q_i(t_k))/dt (spec 1.10).
   double rate(int i) const { return (q(i) - q_start(i)) / dt; }
-  Vec3 nodeVelocity(int node) const { return (q.segment<3>(3 * node) - q_start.segment<3>(3 * node)) / dt; }
+  Vec3 nodeVelocity(int node) const {
+    return (q.segment<3>(3 * node) - q_start.segment<3>(3 * node)) / dt;
+  }
 };
 
 /// Receives dF/dq entries; the stepper subtracts them from the Newton Jacobian.

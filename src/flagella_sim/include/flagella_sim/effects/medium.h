@@ -29,8 +29,8 @@ class Medium {
   double viscosity() const { return params_[viscosity_]; }  ///< mu [Pa s]
   double density() const { return params_[density_]; }      ///< rho_m [kg/m^3]
 
-  Vec3 up = Vec3::UnitZ();                 ///< unit world vertical, from liquid into air
-  Vec3 gravity = Vec3(0.0, 0.0, -9.81);    ///< [m/s^2]
+  Vec3 up = Vec3::UnitZ();               ///< unit world vertical, from liquid into air
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< [m/s^2]
   InterfaceViscosityProfile profile;
 
  private:

@@ -22,8 +22,8 @@ class RftDrag : public Effect {
  private:
   struct TailNode {
     int node;
-    int prev;   ///< previous node along the tail, -1 at the root
-    int next;   ///< next node along the tail, -1 at the tip
+    int prev;  ///< previous node along the tail, -1 at the root
+    int next;  ///< next node along the tail, -1 at the tip
     double voronoi_length;
     double tail_length;
     double tail_radius;

@@ -16,7 +16,8 @@ std::string trajectoryCsvHeader();
 /// Long format: time,node,x,y,z for every sample that carries node positions.
 void writeNodesCsv(const std::string& path, const std::vector<TrajectorySample>& samples);
 /// Summary metrics (SI and rpm) plus the run's key inputs.
-std::string summaryJson(const SimulationConfig& config, const SummaryMetrics& m, double wall_seconds);
+std::string summaryJson(const SimulationConfig& config, const SummaryMetrics& m,
+                        double wall_seconds);
 void writeText(const std::string& path, const std::string& text);
 
 }  // namespace flagella

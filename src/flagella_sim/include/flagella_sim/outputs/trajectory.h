@@ -13,25 +13,26 @@ struct TrajectorySample {
   double time = 0.0;
   Vec3 head_position = Vec3::Zero();  ///< x_1
   Vec3 head_axis = Vec3::UnitZ();     ///< t^0 (points from the nose toward the tails)
-  Eigen::Quaterniond head_orientation = Eigen::Quaterniond::Identity();  ///< frame (m1^0, m2^0, t^0)
-  double head_angle = 0.0;   ///< theta^0 [rad], cumulative (head spin about t^0)
-  double tail_angle = 0.0;   ///< theta^1 [rad], cumulative (shaft/disc/tails spin)
-  double omega_h = 0.0;      ///< signed theta_dot^0 [rad/s]
-  double omega_t = 0.0;      ///< signed theta_dot^1 [rad/s]
-  double omega_T = 0.0;      ///< motor command [rad/s]
+  Eigen::Quaterniond head_orientation =
+      Eigen::Quaterniond::Identity();  ///< frame (m1^0, m2^0, t^0)
+  double head_angle = 0.0;             ///< theta^0 [rad], cumulative (head spin about t^0)
+  double tail_angle = 0.0;             ///< theta^1 [rad], cumulative (shaft/disc/tails spin)
+  double omega_h = 0.0;                ///< signed theta_dot^0 [rad/s]
+  double omega_t = 0.0;                ///< signed theta_dot^1 [rad/s]
+  double omega_T = 0.0;                ///< motor command [rad/s]
   Vec3 head_velocity = Vec3::Zero();
-  double yaw = 0.0;       ///< azimuth of the forward direction (-t^0) about the world vertical [rad]
-  double yaw_rate = 0.0;  ///< its instantaneous rate [rad/s] (spec 7.1 omega_yr)
+  double yaw = 0.0;  ///< azimuth of the forward direction (-t^0) about the world vertical [rad]
+  double yaw_rate = 0.0;       ///< its instantaneous rate [rad/s] (spec 7.1 omega_yr)
   long newton_iterations = 0;  ///< cumulative since t = 0
   long subdivided_steps = 0;   ///< cumulative count of steps that needed subdivision
-  std::vector<Vec3> nodes;  ///< all node positions (only if recorded)
+  std::vector<Vec3> nodes;     ///< all node positions (only if recorded)
 };
 
 /// Steady-state metrics over the last part of a run (spec 7.1).
 struct SummaryMetrics {
   double window_start = 0.0, window_end = 0.0;
-  double omega_h = 0.0;        ///< |head spin| [rad/s] from the angle turned in the window
-  double omega_t = 0.0;        ///< |tail spin| [rad/s]
+  double omega_h = 0.0;  ///< |head spin| [rad/s] from the angle turned in the window
+  double omega_t = 0.0;  ///< |tail spin| [rad/s]
   double omega_h_signed = 0.0, omega_t_signed = 0.0;
   double omega_T_mean = 0.0;   ///< mean |motor command| [rad/s]
   double speed = 0.0;          ///< v: slope of forward displacement along the initial axis [m/s]
@@ -48,7 +49,7 @@ struct SummaryMetrics {
 };
 
 struct SummaryInputs {
-  Vec3 up = Vec3::UnitZ();      ///< world vertical (the samples' yaw must use the same)
+  Vec3 up = Vec3::UnitZ();  ///< world vertical (the samples' yaw must use the same)
   Vec3 initial_axis = Vec3::UnitZ();
   double steady_fraction = 0.5;
   double C_t = 0.0, C_r = 0.0, head_radius = 0.0;  ///< for eta; C_r = 0 disables it

@@ -10,12 +10,12 @@ namespace flagella {
 
 struct MultiTailGeometry {
   int n_tails = 2;
-  double tail_length = 0.111;        ///< L [m]
-  int tail_edges = 27;               ///< edges per tail
-  double head_edge_length = 0.02;    ///< |x_0 x_1| = |x_1 x_2| [m]
-  double disc_radius = 0.02;         ///< R_d: spoke length [m]
-  double spoke_phase = 0.0;          ///< angle of spoke 0 about the axis, from +x [rad]
-  double rigid_factor = 1e3;         ///< stiffness multiplier of the rigid parts (spec 1.4)
+  double tail_length = 0.111;      ///< L [m]
+  int tail_edges = 27;             ///< edges per tail
+  double head_edge_length = 0.02;  ///< |x_0 x_1| = |x_1 x_2| [m]
+  double disc_radius = 0.02;       ///< R_d: spoke length [m]
+  double spoke_phase = 0.0;        ///< angle of spoke 0 about the axis, from +x [rad]
+  double rigid_factor = 1e3;       ///< stiffness multiplier of the rigid parts (spec 1.4)
   RodMaterial tail_material;
   /// Optional per-tail multipliers (fabrication asymmetry); empty means all 1.
   std::vector<double> tail_length_scale;

@@ -21,17 +21,17 @@ ReferenceFrames transportFrames(const RodNetwork& net, const VecX& q,
 
 /// Local-representation quantities of one bending-twisting spring (spec 1.3, 1.6).
 struct SpringGeometry {
-  Vec3 e, f;            ///< local edge vectors (x_c - x_p, x_q - x_c)
-  double len_e, len_f;  ///< |e|, |f|
-  Vec3 te, tf;          ///< local unit tangents
+  Vec3 e, f;                ///< local edge vectors (x_c - x_p, x_q - x_c)
+  double len_e, len_f;      ///< |e|, |f|
+  Vec3 te, tf;              ///< local unit tangents
   Vec3 m1e, m2e, m1f, m2f;  ///< local material directors
-  Vec3 kb;              ///< curvature binormal
+  Vec3 kb;                  ///< curvature binormal
   double kappa1, kappa2, tau;
 };
 
 /// Evaluates one spring's local geometry from q, the reference frames and its ref. twist.
-SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& spring,
-                              const VecX& q, const ReferenceFrames& frames, int spring_index);
+SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& spring, const VecX& q,
+                              const ReferenceFrames& frames, int spring_index);
 
 /// Material director m1^j (stored orientation) of edge j.
 Vec3 materialDirector1(const ReferenceFrames& frames, const VecX& q, const RodNetwork& net,

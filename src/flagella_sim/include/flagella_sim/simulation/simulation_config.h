@@ -14,8 +14,8 @@
 namespace flagella {
 
 struct MotorSpec {
-  std::string mode = "constant";  ///< constant | binary
-  double omega = 0.0;             ///< omega_T [rad/s] (config gives rpm)
+  std::string mode = "constant";   ///< constant | binary
+  double omega = 0.0;              ///< omega_T [rad/s] (config gives rpm)
   double positive_duration = 1.0;  ///< binary: time at +omega [s]
   double negative_duration = 1.0;  ///< binary: time at -omega [s]
   double ramp_time = 0.0;          ///< soft start [s]
@@ -24,8 +24,8 @@ struct MotorSpec {
 /// One external effect switched on by name, with its options and parameter values.
 struct EffectSpec {
   std::string name;
-  std::string log_form = "2L/r0";   ///< rft
-  bool use_interface_profile = false;  ///< rft
+  std::string log_form = "2L/r0";       ///< rft
+  bool use_interface_profile = false;   ///< rft
   std::string lateral_mode = "fitted";  ///< interface_lateral_force: fitted | integrated
   std::vector<std::pair<std::string, double>> parameters;  ///< name -> value overrides
 };
