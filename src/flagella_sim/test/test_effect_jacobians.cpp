@@ -6,6 +6,7 @@
 
 #include "flagella_sim/effects/constant_load.h"
 #include "flagella_sim/effects/gravity.h"
+#include "flagella_sim/effects/head_restraint.h"
 #include "flagella_sim/effects/interface_lateral_force.h"
 #include "flagella_sim/effects/rft_drag.h"
 #include "flagella_sim/effects/stokes_head_drag.h"
@@ -105,6 +106,11 @@ TEST(EffectJacobians, InterfaceLateralForceIsNonSymmetric) {
   const ReferenceFrames fr = transportFrames(f.net, f.q, f.frames_start);
   e.addForce({f.net, f.q, fr, f.q_start, f.qdot_start, f.dt, f.dt, f.medium}, F, &sink);
   EXPECT_GT((sink.J - sink.J.transpose()).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(EffectJacobians, HeadRestraint) {
+  HeadRestraint e(3.0, 0.7);
+  for (unsigned s : {9u, 10u}) expectJacobianMatchesFiniteDifferences(e, s);
 }
 
 TEST(EffectJacobians, ConstantForcesHaveZeroJacobian) {

@@ -1,6 +1,8 @@
 #include "flagella_sim/simulation/effect_factory.h"
 
 #include "flagella_sim/effects/gravity.h"
+#include "flagella_sim/effects/head_restraint.h"
+#include "flagella_sim/effects/head_restraint.h"
 #include "flagella_sim/effects/interface_lateral_force.h"
 #include "flagella_sim/effects/rft_drag.h"
 #include "flagella_sim/effects/stokes_head_drag.h"
@@ -25,6 +27,7 @@ EffectPtr construct(const EffectSpec& spec, const SimulationConfig& c) {
   }
   if (spec.name == Gravity::kName)
     return std::make_unique<Gravity>(c.geometry.tail_material.density);
+  if (spec.name == HeadRestraint::kName) return std::make_unique<HeadRestraint>(0.0, 0.0);
   throw ConfigError("unknown effect '" + spec.name + "'");
 }
 

@@ -145,7 +145,7 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
 
 const std::vector<std::string>& knownEffectNames() {
   static const std::vector<std::string> names{"rft", "stokes_head", "interface_lateral_force",
-                                              "gravity"};
+                                              "gravity", "head_restraint"};
   return names;
 }
 
