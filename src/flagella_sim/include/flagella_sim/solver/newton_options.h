@@ -6,7 +6,9 @@ namespace flagella {
 struct NewtonOptions {
   /// Converged when max_i |f_i| / scale_i < residual_tolerance, with scale_i = force_scale for
   /// position rows and moment_scale for twist rows (a scale-aware test, spec 1.10).
-  double residual_tolerance = 1e-6;
+  /// Default 1e-4: on the shipped robots the summary metrics then differ from a 1e-9 solve by
+  /// about 1e-5 relative, while Newton needs about half the iterations of 1e-6.
+  double residual_tolerance = 1e-4;
   /// Also converged when the Newton update is this small relative to the length scale (rows
   /// already at round-off level) and the residual is within 1e3 x tolerance.
   double step_tolerance = 1e-12;
