@@ -44,10 +44,6 @@ void SparseAssembler::addSlow(int row, int col, double value) {
   ++cursor_;
 }
 
-void SparseAssembler::addBlock(int row, int col, const Mat3& block) {
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) add(row + a, col + b, block(a, b));
-}
 
 SparseMatrix& SparseAssembler::finish() {
   if (!recording_ && cursor_ == rows_.size()) {

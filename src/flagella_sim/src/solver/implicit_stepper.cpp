@@ -18,6 +18,9 @@ class NegatingSink : public JacobianSink {
  public:
   explicit NegatingSink(SparseAssembler& a) : assembler_(a) {}
   void add(int row, int col, double value) override { assembler_.add(row, col, -value); }
+  void addBlock(int row, int col, const Mat3& block) override {
+    assembler_.addBlock(row, col, -block);
+  }
 
  private:
   SparseAssembler& assembler_;

@@ -43,8 +43,20 @@ class SparseAssembler {
     for (int b = 0; b < N; ++b)
       for (int a = 0; a < N; ++a) add(idx[a], idx[b], sign[a] * sign[b] * m(a, b));
   }
-  /// Adds a dense 3x3 block at (row, col).
-  void addBlock(int row, int col, const Mat3& block);
+  /// Adds a dense 3x3 block at (row, col); same fast path as addDense.
+  void addBlock(int row, int col, const Mat3& block) {
+    const size_t end = cursor_ + 9;
+    if (!recording_ && end <= rows_.size() && rows_[cursor_] == row && cols_[cursor_] == col &&
+        rows_[end - 1] == row + 2 && cols_[end - 1] == col + 2) {
+      const int* slot = slot_.data() + cursor_;
+      for (int b = 0; b < 3; ++b)
+        for (int a = 0; a < 3; ++a) values_ptr_[*slot++] += block(a, b);
+      cursor_ = end;
+      return;
+    }
+    for (int b = 0; b < 3; ++b)
+      for (int a = 0; a < 3; ++a) add(row + a, col + b, block(a, b));
+  }
   /// Ends a pass and returns the assembled matrix.
   SparseMatrix& finish();
   /// The matrix as last finished.

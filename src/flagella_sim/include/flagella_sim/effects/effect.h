@@ -36,7 +36,7 @@ class JacobianSink {
  public:
   virtual ~JacobianSink() = default;
   virtual void add(int row, int col, double value) = 0;
-  void addBlock(int row, int col, const Mat3& block) {
+  virtual void addBlock(int row, int col, const Mat3& block) {
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) add(row + a, col + b, block(a, b));
   }
