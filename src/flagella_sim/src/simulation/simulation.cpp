@@ -66,6 +66,7 @@ void Simulation::run(double duration, const std::function<void(double)>& progres
     throw;
   }
   recordFinalSample();
+  if (progress) progress(1.0);
 }
 
 TrajectorySample Simulation::sample() const {
