@@ -57,14 +57,6 @@ double FieldReader::number(const std::string& key, double fallback, double min, 
   return value;
 }
 
-double FieldReader::requiredNumber(const std::string& key, double min, double max,
-                                   const std::string& unit) {
-  if (!has(key))
-    throw ConfigError(field(key) + " is required (allowed range [" + formatNumber(min) + ", " +
-                      formatNumber(max) + "] " + unit + ")");
-  return number(key, 0.0, min, max, unit);
-}
-
 int FieldReader::integer(const std::string& key, int fallback, int min, int max) {
   const YAML::Node v = get(key);
   if (!v || v.IsNull()) return fallback;

@@ -70,14 +70,12 @@ double ImplicitStepper::scaledResidual(const VecX& f) const {
   return std::max(force, moment);
 }
 
-void ImplicitStepper::applyFixedDofs(SparseMatrix& J, VecX& f) const {
-  // Dirichlet DOFs: zero row and column, unit diagonal, zero residual (spec 1.10).
+void ImplicitStepper::pinFixedDofs(SparseMatrix& J) const {
+  // Dirichlet DOFs: zero row and column, unit diagonal (spec 1.10).
   for (int col = 0; col < J.outerSize(); ++col)
     for (SparseMatrix::InnerIterator it(J, col); it; ++it)
       if (net_.fixed_dof[it.row()] || net_.fixed_dof[col])
         it.valueRef() = it.row() == col ? 1.0 : 0.0;
-  for (int i = 0; i < f.size(); ++i)
-    if (net_.fixed_dof[i]) f(i) = 0.0;
 }
 
 double ImplicitStepper::stepNorm(const VecX& dq) const {
@@ -108,11 +106,11 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
   residual_ -= external_;
   if (with_jacobian) {
     SparseMatrix& J = assembler_.finish();
-    if (any_fixed_) applyFixedDofs(J, residual_);
-  } else if (any_fixed_) {
+    if (any_fixed_) pinFixedDofs(J);
+  }
+  if (any_fixed_)
     for (int i = 0; i < residual_.size(); ++i)
       if (net_.fixed_dof[i]) residual_(i) = 0.0;
-  }
   return residual_.allFinite() ? scaledResidual(residual_)
                                : std::numeric_limits<double>::infinity();
 }
@@ -126,26 +124,27 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt,
   VecX q = options_.extrapolate_initial_guess ? VecX(q0 + dt * state.qdot) : q0;
   for (int i = 0; i < q.size(); ++i)
     if (net_.fixed_dof[i]) q(i) = q0(i);
+  auto accept = [&](ReferenceFrames frames) {
+    attempt.converged = true;
+    state.qdot = (q - q0) / dt;
+    state.q = q;
+    state.frames = std::move(frames);
+  };
   // The first pass always builds the Jacobian; later passes first check convergence with the
   // cheap residual-only evaluation and build the Jacobian only if another update is needed.
-  bool have_jacobian = false;
   for (int iter = 0; iter <= options_.max_iterations; ++iter) {
-    const ReferenceFrames frames = transportFrames(net_, q, state.frames);
+    ReferenceFrames frames = transportFrames(net_, q, state.frames);
     attempt.residual = evaluate(state, q, dt, frames, iter == 0);
-    have_jacobian = iter == 0;
     attempt.iterations = iter;
     if (options_.trace)
       std::fprintf(stderr, "t=%.4f iter %d residual %.3e\n", state.time, iter, attempt.residual);
     if (!std::isfinite(attempt.residual)) return attempt;
     if (attempt.residual < options_.residual_tolerance) {
-      attempt.converged = true;
-      state.qdot = (q - q0) / dt;
-      state.q = q;
-      state.frames = frames;
+      accept(std::move(frames));
       return attempt;
     }
     if (iter == options_.max_iterations) return attempt;
-    if (!have_jacobian) evaluate(state, q, dt, frames, true);
+    if (iter > 0) evaluate(state, q, dt, frames, true);
     if (!analyzed_ || assembler_.patternChanged()) {
       lu_.analyze(assembler_.matrix());
       analyzed_ = true;
@@ -159,10 +158,7 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt,
     if (stepNorm(dq) < options_.step_tolerance &&
         attempt.residual < kStagnationResidualFactor * options_.residual_tolerance) {
       // Round-off-level update with a nearly converged residual: accept (NewtonOptions).
-      attempt.converged = true;
-      state.qdot = (q - q0) / dt;
-      state.q = q;
-      state.frames = transportFrames(net_, q, state.frames);
+      accept(transportFrames(net_, q, state.frames));
       return attempt;
     }
   }
@@ -208,11 +204,8 @@ StepReport ImplicitStepper::step(RodState& state, double dt, const MotorCommand&
     msg << "time step must be > 0 and finite, got " << dt;
     throw SolverFailure(msg.str());
   }
-  RodState working = state;
   try {
-    StepReport report = stepRecursive(working, dt, motor, 0);
-    state = std::move(working);
-    return report;
+    return stepRecursive(state, dt, motor, 0);  // assigns state only when the whole step succeeded
   } catch (const SolverFailure& e) {
     // Leave the network as it was before the rejected step (motor natural twist included).
     if (net_.parts.motor_spring >= 0)
@@ -222,15 +215,6 @@ StepReport ImplicitStepper::step(RodState& state, double dt, const MotorCommand&
     msg << "step from t = " << state.time << " s with dt = " << dt << " s failed: " << e.what();
     throw SolverFailure(msg.str());
   }
-}
-
-VecX ImplicitStepper::externalForce(const RodState& state, const RodState& previous,
-                                    double dt) const {
-  VecX external = VecX::Zero(net_.ndof());
-  const EffectContext ctx{net_,          state.q, state.frames, previous.q,
-                          previous.qdot, dt,      state.time,   medium_};
-  for (const EffectPtr& e : effects_) e->addForce(ctx, external, nullptr);
-  return external;
 }
 
 }  // namespace flagella

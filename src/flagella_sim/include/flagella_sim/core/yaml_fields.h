@@ -21,8 +21,6 @@ class FieldReader {
   bool has(const std::string& key) const;
   double number(const std::string& key, double fallback, double min, double max,
                 const std::string& unit = "");
-  double requiredNumber(const std::string& key, double min, double max,
-                        const std::string& unit = "");
   int integer(const std::string& key, int fallback, int min, int max);
   bool flag(const std::string& key, bool fallback);
   std::string choice(const std::string& key, const std::string& fallback,

@@ -72,9 +72,6 @@ struct RodNetwork {
   int thetaIndex(int edge) const { return 3 * numNodes() + edge; }
   static int positionIndex(int node) { return 3 * node; }
 
-  /// Voronoi length of every node from undeformed edges; terminal nodes get half an edge (1.8).
-  std::vector<double> nodeVoronoiLengths() const;
-
   /// Rest-state DOF vector (positions from rest_positions, all theta = 0).
   VecX restDofs() const;
 };

@@ -43,9 +43,6 @@ class ImplicitStepper {
   /// step cannot be completed even after subdivision; state is then unchanged.
   StepReport step(RodState& state, double dt, const MotorCommand& motor);
 
-  /// Generalised external + elastic force balance pieces at a state (for diagnostics/tests).
-  VecX externalForce(const RodState& state, const RodState& previous, double dt) const;
-
   const RodNetwork& network() const { return net_; }
   RodNetwork& network() { return net_; }
   Medium& medium() { return medium_; }
@@ -71,7 +68,7 @@ class ImplicitStepper {
   StepReport stepRecursive(RodState& state, double dt, const MotorCommand& motor, int depth);
   double scaledResidual(const VecX& f) const;
   double stepNorm(const VecX& dq) const;
-  void applyFixedDofs(SparseMatrix& J, VecX& f) const;
+  void pinFixedDofs(SparseMatrix& J) const;
 
   RodNetwork net_;
   std::vector<EffectPtr> effects_;
