@@ -8,6 +8,18 @@ PACKAGES=(
   libeigen3-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libsuitesparse-dev
   libgtest-dev googletest libbenchmark-dev
   python3-matplotlib python3-numpy
+  # ROS 1 (Debian's own packages, under /usr) and LCM
+  ros-core-dev ros-base-dev rosbash rosout python3-rostest python3-roslaunch python3-rosbag
+  python3-rospy python3-rostopic python3-rosnode python3-rosservice python3-rosunit
+  librostest-dev librosbag-dev libroscpp-dev libtf2-ros-dev libtf2-eigen-dev
+  libtf2-geometry-msgs-dev libsensor-msgs-dev libgeometry-msgs-dev libvisualization-msgs-dev
+  libnav-msgs-dev libdiagnostic-msgs-dev libstd-srvs-dev ros-message-generation
+  ros-message-runtime ros-core-python-dev python3-tf2-msgs python3-sensor-msgs python3-nav-msgs
+  python3-std-srvs python3-diagnostic-msgs python3-visualization-msgs python3-geometry-msgs
+  python3-rosgraph-msgs tf2-tools
+  liblcm-dev liblcm-bin libglib2.0-dev pkg-config
+  # headless rviz for the rendering test
+  rviz xvfb xauth libgl1-mesa-dri imagemagick
 )
 
 missing=()

@@ -1,0 +1,41 @@
+// ROS-side views of a rod snapshot: rviz markers, tf transforms, a path pose, diagnostics.
+#pragma once
+
+#include <diagnostic_msgs/DiagnosticStatus.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <string>
+#include <vector>
+
+#include "flagella_sim/runtime/rod_snapshot.h"
+#include "flagella_sim/runtime/sim_session.h"
+
+namespace flagella_ros {
+
+struct MarkerStyle {
+  double tail_width = 0.004;  ///< line width of the tails [m]
+  double head_width = 0.02;   ///< line width of the rigid head [m]
+};
+
+/// Head as a thick grey line strip through the head nodes, each tail as a coloured line strip.
+visualization_msgs::MarkerArray rodMarkers(const flagella::RodSnapshot& s, const ros::Time& stamp,
+                                           const std::string& world_frame,
+                                           const MarkerStyle& style);
+
+/// world -> <prefix>/head (head centre, frame m1^0, m2^0, t^0) and world -> <prefix>/tail<k>
+/// (material frame of each tail's last edge, at the tail tip).
+std::vector<geometry_msgs::TransformStamped> rodTransforms(const flagella::RodSnapshot& s,
+                                                           const ros::Time& stamp,
+                                                           const std::string& world_frame,
+                                                           const std::string& prefix);
+
+geometry_msgs::PoseStamped headPose(const flagella::RodSnapshot& s, const ros::Time& stamp,
+                                    const std::string& world_frame);
+
+diagnostic_msgs::DiagnosticStatus sessionStatus(const flagella::SessionHealth& h,
+                                                const std::string& name, double sim_time,
+                                                double real_time_factor);
+
+}  // namespace flagella_ros

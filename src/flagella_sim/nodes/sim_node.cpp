@@ -1,0 +1,301 @@
+#include "sim_node.h"
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <flagella_msgs/RodState.h>
+#include <sensor_msgs/Imu.h>
+#include <tf2_msgs/TFMessage.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <flagella_msgs/lcm_conversions.h>
+
+#include "flagella_sim/lcm_io/lcm_messages.h"
+#include "flagella_sim/simulation/simulation_config.h"
+#include "node_params.h"
+
+namespace flagella_ros {
+
+namespace {
+constexpr double kMaxRate = 1e4;               // [Hz]
+constexpr double kMaxRealTimeFactor = 1e6;
+constexpr double kMaxDuration = 1e9;           // [s]
+constexpr double kIdlePoll = 0.005;            // [s wall] poll period while paused or waiting
+constexpr double kMaxPaceSleep = 0.002;        // [s wall] longest sleep while pacing
+constexpr double kDrainTime = 1.0;             // [s wall] let subscribers receive the last messages
+constexpr double kWallDiagnosticsPeriod = 1.0; // [s wall] diagnostics while paused or halted
+// Outgoing queue per subscriber: deep enough that a recorder keeps up with a session running
+// many times faster than real time (100 Hz IMU at 30x is 3000 messages per second).
+constexpr int kQueue = 5000;
+
+std::string defaultPrefix(const ros::NodeHandle& nh) {
+  std::string ns = nh.getNamespace();
+  while (!ns.empty() && ns.front() == '/') ns.erase(ns.begin());
+  for (char& c : ns)
+    if (c == '/') c = '_';
+  return ns.empty() ? "flagella" : ns;
+}
+
+SimNodeOptions nodeOptionsFromParams(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
+  SimNodeOptions o;
+  if (!pnh.getParam("config", o.config_path) || o.config_path.empty())
+    throw flagella::ConfigError("parameter ~config (path of a robot config YAML) is required");
+  pnh.param<std::string>("world_frame", o.world_frame, o.world_frame);
+  pnh.param<std::string>("tf_prefix", o.tf_prefix, defaultPrefix(nh));
+  o.real_time_factor = rangedParam(pnh, "real_time_factor", o.real_time_factor, 0.0,
+                                   kMaxRealTimeFactor, "(0: as fast as possible)");
+  pnh.param("publish_clock", o.publish_clock, o.publish_clock);
+  o.state_rate = rangedParam(pnh, "state_rate", o.state_rate, 1e-3, kMaxRate, "Hz");
+  o.imu_rate = rangedParam(pnh, "imu_rate", o.imu_rate, 1e-3, kMaxRate, "Hz");
+  o.marker_rate = rangedParam(pnh, "marker_rate", o.marker_rate, 1e-3, kMaxRate, "Hz");
+  o.path_rate = rangedParam(pnh, "path_rate", o.path_rate, 1e-3, kMaxRate, "Hz");
+  o.diagnostics_rate =
+      rangedParam(pnh, "diagnostics_rate", o.diagnostics_rate, 1e-3, kMaxRate, "Hz");
+  o.path_max_poses = static_cast<int>(
+      rangedParam(pnh, "path_max_poses", o.path_max_poses, 1, 1e7, "poses"));
+  o.duration = rangedParam(pnh, "duration", o.duration, 0.0, kMaxDuration, "s (0: forever)");
+  pnh.param("wait_for_subscribers", o.wait_for_subscribers, o.wait_for_subscribers);
+  o.wait_timeout = rangedParam(pnh, "wait_timeout", o.wait_timeout, 0.0, 1e6, "s");
+  o.markers.tail_width = rangedParam(pnh, "marker_tail_width", o.markers.tail_width, 1e-5, 1.0, "m");
+  o.markers.head_width = rangedParam(pnh, "marker_head_width", o.markers.head_width, 1e-5, 1.0, "m");
+  return o;
+}
+
+void sleepWall(double seconds) { ros::WallDuration(seconds).sleep(); }
+}  // namespace
+
+SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
+    : options_(nodeOptionsFromParams(nh, pnh)),
+      state_schedule_(options_.state_rate),
+      imu_schedule_(options_.imu_rate),
+      marker_schedule_(options_.marker_rate),
+      path_schedule_(options_.path_rate),
+      diagnostics_schedule_(options_.diagnostics_rate) {
+  std::string overrides;
+  pnh.param<std::string>("overrides", overrides, "");
+  const flagella::SimulationConfig config =
+      flagella::loadSimulationConfig(options_.config_path, splitOverrides(overrides));
+  flagella::SessionOptions session_options = sessionOptionsFromParams(pnh);
+  session_options.imu.rate = options_.imu_rate;
+  session_ = std::make_unique<flagella::SimSession>(config, session_options);
+  status_name_ = options_.tf_prefix + ": flagella_sim";
+
+  if (options_.publish_clock) clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", kQueue);
+  else clock_sub_ = nh.subscribe("/clock", kQueue, &SimNode::onClock, this);
+  state_pub_ = nh.advertise<flagella_msgs::RodState>("rod_state", kQueue);
+  imu_pub_ = nh.advertise<sensor_msgs::Imu>("imu", kQueue);
+  marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", kQueue);
+  path_pub_ = nh.advertise<nav_msgs::Path>("head_path", kQueue);
+  tf_pub_ = nh.advertise<tf2_msgs::TFMessage>("/tf", kQueue);
+  diag_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", kQueue);
+  motor_sub_ = nh.subscribe("motor_command", kQueue, &SimNode::onMotorCommand, this);
+  slider_sub_ = nh.subscribe("slider_command", kQueue, &SimNode::onSliderCommand, this);
+  reset_srv_ = pnh.advertiseService("reset", &SimNode::onReset, this);
+  pause_srv_ = pnh.advertiseService("pause", &SimNode::onPause, this);
+  path_.header.frame_id = options_.world_frame;
+
+  const auto& net = session_->simulation().network();
+  ROS_INFO_STREAM("flagella_sim: " << config.robot_name << " from " << options_.config_path << ", "
+                                   << net.numNodes() << " nodes, dt " << config.dt << " s, "
+                                   << (options_.real_time_factor > 0.0
+                                           ? std::to_string(options_.real_time_factor) + "x real time"
+                                           : std::string("as fast as possible"))
+                                   << (options_.publish_clock ? "" : ", following /clock"));
+}
+
+template <typename M>
+void SimNode::publish(ros::Publisher& pub, const M& msg) {
+  pub.publish(msg);
+  ++published_[pub.getTopic()];
+}
+
+void SimNode::onMotorCommand(const flagella_msgs::MotorCommand& msg) {
+  if (session_->commandMotor(msg.omega) != flagella::CommandVerdict::Accepted)
+    ROS_ERROR_STREAM("flagella_sim: rejected " << session_->health().last_rejection);
+}
+
+void SimNode::onSliderCommand(const flagella_msgs::SliderCommand& msg) {
+  if (session_->commandSlider(msg.position) != flagella::CommandVerdict::Accepted)
+    ROS_ERROR_STREAM("flagella_sim: rejected " << session_->health().last_rejection);
+}
+
+void SimNode::onClock(const rosgraph_msgs::Clock& msg) { followed_clock_ = msg.clock.toSec(); }
+
+bool SimNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  time_offset_ += session_->time();
+  session_->reset();
+  path_.poses.clear();
+  for (auto* s : {&state_schedule_, &imu_schedule_, &marker_schedule_, &path_schedule_})
+    s->restart();
+  pace_wall_start_ = ros::WallTime::now();
+  pace_sim_start_ = session_->time();
+  was_halted_ = false;
+  res.success = true;
+  res.message = "robot reset to its initial state at t = " + std::to_string(clockTime()) + " s";
+  ROS_INFO_STREAM("flagella_sim: " << res.message);
+  publishOutputs(true);
+  return true;
+}
+
+bool SimNode::onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
+  paused_ = req.data;
+  pace_wall_start_ = ros::WallTime::now();
+  pace_sim_start_ = session_->time();
+  res.success = true;
+  res.message = paused_ ? "paused" : "running";
+  ROS_INFO_STREAM("flagella_sim: " << res.message << " at t = " << clockTime() << " s");
+  return true;
+}
+
+bool SimNode::waitForSubscribers() {
+  if (!options_.wait_for_subscribers) return true;
+  const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(options_.wait_timeout);
+  ros::Publisher* outputs[] = {&state_pub_, &imu_pub_, &marker_pub_, &path_pub_, &tf_pub_,
+                               &diag_pub_};
+  while (ros::ok()) {
+    bool all = true;
+    for (ros::Publisher* p : outputs) all = all && p->getNumSubscribers() > 0;
+    if (all) return true;
+    if (ros::WallTime::now() > give_up) {
+      ROS_WARN("flagella_sim: not every output topic has a subscriber after %.1f s; starting",
+               options_.wait_timeout);
+      return true;
+    }
+    if (clock_pub_) {
+      // rosbag and every other sim-time node treat t = 0 as "no clock yet": 1 ns lets them
+      // start (and subscribe) before the first step.
+      rosgraph_msgs::Clock c;
+      c.clock = ros::Time(0, 1);
+      clock_pub_.publish(c);
+    }
+    ros::spinOnce();
+    sleepWall(kIdlePoll * 10);
+  }
+  return false;
+}
+
+bool SimNode::readyToStep() {
+  if (paused_ || session_->halted()) return false;
+  if (!options_.publish_clock) return clockTime() + 0.5 * session_->dt() <= followed_clock_;
+  if (options_.real_time_factor <= 0.0) return true;
+  const double due_wall = (session_->time() - pace_sim_start_) / options_.real_time_factor;
+  const double ahead = due_wall - (ros::WallTime::now() - pace_wall_start_).toSec();
+  if (ahead <= 0.0) return true;
+  sleepWall(std::min(ahead, kMaxPaceSleep));
+  return false;
+}
+
+void SimNode::publishOutputs(bool force) {
+  const double t = session_->time();
+  const ros::Time now = stamp();
+  const bool state_due = state_schedule_.due(t) || force;
+  const bool marker_due = marker_schedule_.due(t) || force;
+  const bool path_due = path_schedule_.due(t) || force;
+  const bool imu_due = imu_schedule_.due(t) || force;
+  if (!(state_due || marker_due || path_due || imu_due)) return;
+  flagella::RodSnapshot snapshot;
+  if (state_due || marker_due || path_due) {
+    snapshot = session_->snapshot();
+    if (!snapshot.allFinite()) {
+      ROS_ERROR("flagella_sim: non-finite state at t = %.6f s; not published", clockTime());
+      return;
+    }
+  }
+  if (state_due) {
+    flagella_msgs::RodState msg =
+        flagella_msgs::toRos(flagella::toRodStateMessage(snapshot, options_.world_frame));
+    msg.header.stamp = now;
+    publish(state_pub_, msg);
+    tf2_msgs::TFMessage tf;
+    tf.transforms = rodTransforms(snapshot, now, options_.world_frame, options_.tf_prefix);
+    publish(tf_pub_, tf);
+  }
+  if (marker_due) publish(marker_pub_, rodMarkers(snapshot, now, options_.world_frame, options_.markers));
+  if (path_due) {
+    path_.poses.push_back(headPose(snapshot, now, options_.world_frame));
+    if (static_cast<int>(path_.poses.size()) > options_.path_max_poses)
+      path_.poses.erase(path_.poses.begin());
+    path_.header.stamp = now;
+    publish(path_pub_, path_);
+  }
+  if (imu_due) {
+    const flagella::ImuSample imu = session_->measureImu();
+    if (imu.orientation.coeffs().allFinite() && imu.angular_velocity.allFinite() &&
+        imu.linear_acceleration.allFinite()) {
+      sensor_msgs::Imu msg =
+          flagella_msgs::toRos(flagella::toImuMessage(imu, options_.tf_prefix + "/head"));
+      msg.header.stamp = now;
+      publish(imu_pub_, msg);
+    }
+  }
+}
+
+void SimNode::publishDiagnostics() {
+  diagnostic_msgs::DiagnosticArray array;
+  array.header.stamp = stamp();
+  const double wall = (ros::WallTime::now() - run_wall_start_).toSec();
+  const double rtf = wall > 0.0 ? clockTime() / wall : 0.0;
+  array.status.push_back(sessionStatus(session_->health(), status_name_, clockTime(), rtf));
+  for (const auto& [topic, count] : published_) {
+    diagnostic_msgs::KeyValue kv;
+    kv.key = "published " + topic;
+    kv.value = std::to_string(count);
+    array.status.back().values.push_back(kv);
+  }
+  publish(diag_pub_, array);
+}
+
+void SimNode::printSummary() const {
+  const double wall = (ros::WallTime::now() - run_wall_start_).toSec();
+  long total = 0;
+  std::ostringstream topics;
+  for (const auto& [topic, count] : published_) {
+    total += count;
+    topics << " " << topic << "=" << count;
+  }
+  const flagella::SessionHealth h = session_->health();
+  ROS_INFO("flagella_sim: %.3f s simulated in %.3f s wall (%.2fx real time), %ld steps, "
+           "%ld Newton iterations, %ld solver failures; %ld messages (%.0f/s):%s",
+           clockTime(), wall, wall > 0 ? clockTime() / wall : 0.0, h.steps, h.newton_iterations,
+           h.solver_failures, total, wall > 0 ? total / wall : 0.0, topics.str().c_str());
+}
+
+int SimNode::run() {
+  if (!waitForSubscribers()) return 0;
+  run_wall_start_ = pace_wall_start_ = ros::WallTime::now();
+  pace_sim_start_ = session_->time();
+  publishOutputs(true);
+  publishDiagnostics();
+  ros::WallTime last_wall_diagnostics = ros::WallTime::now();
+  while (ros::ok()) {
+    ros::spinOnce();
+    if (options_.duration > 0.0 && clockTime() >= options_.duration - 0.5 * session_->dt()) break;
+    if (!readyToStep()) {
+      if ((paused_ || session_->halted() || !options_.publish_clock) &&
+          (ros::WallTime::now() - last_wall_diagnostics).toSec() > kWallDiagnosticsPeriod) {
+        publishDiagnostics();
+        last_wall_diagnostics = ros::WallTime::now();
+      }
+      if (paused_ || session_->halted()) sleepWall(kIdlePoll);
+      continue;
+    }
+    const bool stepped = session_->step();
+    if (!stepped && !was_halted_) {
+      was_halted_ = true;
+      ROS_ERROR_STREAM("flagella_sim: " << session_->health().message);
+      publishDiagnostics();
+      continue;
+    }
+    if (clock_pub_) {
+      rosgraph_msgs::Clock c;
+      c.clock = stamp();
+      clock_pub_.publish(c);
+    }
+    publishOutputs(false);
+    if (diagnostics_schedule_.due(session_->time())) publishDiagnostics();
+  }
+  publishDiagnostics();
+  printSummary();
+  sleepWall(kDrainTime);
+  return 0;
+}
+
+}  // namespace flagella_ros

@@ -1,0 +1,84 @@
+// The simulator node: a thin ROS shell around flagella::SimSession. Parameters in, messages out,
+// /clock, services. See the README's "ROS interface" section for every topic and parameter.
+#pragma once
+
+#include <ros/ros.h>
+#include <std_srvs/SetBool.h>
+#include <std_srvs/Trigger.h>
+
+#include <flagella_msgs/MotorCommand.h>
+#include <flagella_msgs/SliderCommand.h>
+#include <nav_msgs/Path.h>
+#include <rosgraph_msgs/Clock.h>
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "flagella_sim/runtime/rate_schedule.h"
+#include "flagella_sim/runtime/sim_session.h"
+#include "ros_visuals.h"
+
+namespace flagella_ros {
+
+struct SimNodeOptions {
+  std::string config_path;
+  std::string world_frame = "world";
+  std::string tf_prefix;            ///< frames <tf_prefix>/head, <tf_prefix>/tail<k>
+  double real_time_factor = 1.0;    ///< 0: as fast as possible
+  bool publish_clock = true;        ///< false: follow /clock published by another node
+  double state_rate = 20.0, imu_rate = 100.0, marker_rate = 10.0, path_rate = 5.0;
+  double diagnostics_rate = 1.0;    ///< [Hz of simulated time]
+  int path_max_poses = 10000;
+  double duration = 0.0;            ///< stop after this much simulated time; 0: run until killed
+  bool wait_for_subscribers = false;  ///< hold t = 0 until every output topic has a subscriber
+  double wait_timeout = 30.0;       ///< [s wall] then start anyway, with a warning
+  MarkerStyle markers;
+};
+
+class SimNode {
+ public:
+  /// Reads parameters from the private handle; throws flagella::ConfigError on bad input.
+  SimNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
+  /// Runs until ros::ok() turns false or `duration` is reached. Returns the process exit code.
+  int run();
+
+ private:
+  void onMotorCommand(const flagella_msgs::MotorCommand& msg);
+  void onSliderCommand(const flagella_msgs::SliderCommand& msg);
+  void onClock(const rosgraph_msgs::Clock& msg);
+  bool onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
+  bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
+
+  bool waitForSubscribers();
+  bool readyToStep();
+  void publishOutputs(bool force);
+  void publishDiagnostics();
+  void printSummary() const;
+  double clockTime() const { return time_offset_ + session_->time(); }
+  ros::Time stamp() const { return ros::Time(clockTime()); }
+  template <typename M>
+  void publish(ros::Publisher& pub, const M& msg);
+
+  SimNodeOptions options_;
+  std::unique_ptr<flagella::SimSession> session_;
+  std::string status_name_;
+
+  ros::Publisher clock_pub_, state_pub_, imu_pub_, marker_pub_, path_pub_, tf_pub_, diag_pub_;
+  ros::Subscriber motor_sub_, slider_sub_, clock_sub_;
+  ros::ServiceServer reset_srv_, pause_srv_;
+
+  flagella::RateSchedule state_schedule_, imu_schedule_, marker_schedule_, path_schedule_,
+      diagnostics_schedule_;
+  nav_msgs::Path path_;
+  std::map<std::string, long> published_;  ///< messages published per topic
+  double time_offset_ = 0.0;  ///< simulated time before the last reset (the clock never jumps back)
+  double followed_clock_ = 0.0;
+  bool paused_ = false;
+  bool was_halted_ = false;
+  ros::WallTime pace_wall_start_;
+  double pace_sim_start_ = 0.0;
+  ros::WallTime run_wall_start_;
+};
+
+}  // namespace flagella_ros

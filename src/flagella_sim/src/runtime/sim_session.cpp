@@ -1,0 +1,156 @@
+#include "flagella_sim/runtime/sim_session.h"
+
+#include <cmath>
+
+#include "flagella_sim/core/parameter_set.h"
+
+namespace flagella {
+
+namespace {
+constexpr double kMaxMotorSpeed = 1e4;     // [rad/s], far above any soft robot's motor
+constexpr double kMaxCommandTimeout = 1e6; // [s]
+constexpr double kMaxSliderTravel = 1.0;   // [m]
+
+CommandGateOptions motorGateOptions(const SessionOptions& o) {
+  CommandGateOptions g;
+  g.field = "motor command omega";
+  g.unit = "rad/s";
+  g.min = -o.max_motor_speed;
+  g.max = o.max_motor_speed;
+  g.timeout = o.command_timeout;
+  return g;
+}
+
+CommandGateOptions sliderGateOptions(const SessionOptions& o) {
+  CommandGateOptions g;
+  g.field = "slider command position";
+  g.unit = "m";
+  g.min = o.slider_min;
+  g.max = o.slider_max;
+  g.safe_value = std::min(std::max(0.0, o.slider_min), o.slider_max);
+  return g;  // no failsafe: the mass stays where it was put
+}
+
+void requireInRange(const std::string& field, double value, double min, double max,
+                    const std::string& unit) {
+  if (!(value >= min && value <= max)) throw ConfigError(rangeMessage(field, value, min, max, unit));
+}
+}  // namespace
+
+void SessionOptions::validate() const {
+  requireInRange("max_motor_speed", max_motor_speed, 1e-6, kMaxMotorSpeed, "rad/s");
+  requireInRange("command_timeout", command_timeout, 0.0, kMaxCommandTimeout, "s (0: off)");
+  if (initial_motor != "config" && initial_motor != "stopped")
+    throw ConfigError("initial_motor must be \"config\" or \"stopped\", got \"" + initial_motor +
+                      "\"");
+  requireInRange("slider_min", slider_min, -kMaxSliderTravel, kMaxSliderTravel, "m");
+  requireInRange("slider_max", slider_max, slider_min, kMaxSliderTravel, "m");
+  imu.validate();
+}
+
+SimSession::SimSession(SimulationConfig config, SessionOptions options)
+    : config_(std::move(config)),
+      options_((options.validate(), std::move(options))),
+      config_motor_(makeMotor(config_.motor)),
+      motor_gate_(motorGateOptions(options_)),
+      slider_gate_(sliderGateOptions(options_)),
+      imu_(options_.imu, config_.medium.gravity),
+      output_from_sim_(outputFromSimulationFrame(config_.medium.up)) {
+  start();
+}
+
+void SimSession::start() {
+  sim_ = std::make_unique<Simulation>(config_);
+  sim_->setMotor(std::make_shared<CallbackMotor>([this](double) { return applied_motor_; }));
+  head_motion_.clear();
+  const TrajectorySample s = sim_->sample();
+  head_motion_.update(s.time, s.head_orientation, s.head_velocity);
+  applied_motor_ = 0.0;
+  halted_ = false;
+}
+
+void SimSession::reset() {
+  motor_gate_.clear();
+  slider_gate_.clear();
+  steps_ = solver_failures_ = 0;
+  last_failure_.clear();
+  start();
+}
+
+CommandVerdict SimSession::commandMotor(double omega) { return motor_gate_.submit(omega, time()); }
+
+CommandVerdict SimSession::commandSlider(double position) {
+  return slider_gate_.submit(position, time());
+}
+
+double SimSession::motorSetPoint() const {
+  if (!motor_gate_.hasCommand() && options_.initial_motor == "config")
+    return config_motor_->omega(time() + config_.dt);
+  return motor_gate_.output(time());
+}
+
+bool SimSession::step() {
+  if (halted_) return false;
+  applied_motor_ = motorSetPoint();
+  try {
+    sim_->step();
+  } catch (const SolverFailure& first) {
+    ++solver_failures_;
+    last_failure_ = first.what();
+    applied_motor_ = 0.0;
+    try {
+      sim_->step();
+    } catch (const SolverFailure& second) {
+      last_failure_ = std::string(second.what()) + " (also with the motor stopped: halted)";
+      applied_motor_ = sim_->lastMotorCommand();  // what the last completed step used
+      halted_ = true;
+      return false;
+    }
+  }
+  ++steps_;
+  const TrajectorySample s = sim_->sample();
+  head_motion_.update(s.time, s.head_orientation, s.head_velocity);
+  return true;
+}
+
+RodSnapshot SimSession::snapshot() const { return takeSnapshot(*sim_, output_from_sim_); }
+
+ImuSample SimSession::measureImu() {
+  ImuSample sample = imu_.measure(head_motion_.motion());
+  sample.orientation = (output_from_sim_ * sample.orientation).normalized();
+  return sample;
+}
+
+SessionHealth SimSession::health() const {
+  SessionHealth h;
+  const TrajectorySample s = sim_->sample();
+  h.steps = steps_;
+  h.newton_iterations = s.newton_iterations;
+  h.subdivided_steps = s.subdivided_steps;
+  h.solver_failures = solver_failures_;
+  h.motor_accepted = motor_gate_.acceptedCount();
+  h.motor_rejected = motor_gate_.rejectedCount();
+  h.slider_accepted = slider_gate_.acceptedCount();
+  h.slider_rejected = slider_gate_.rejectedCount();
+  h.failsafe_active = motor_gate_.failsafeTripped(time());
+  h.halted = halted_;
+  h.motor_applied = applied_motor_;
+  h.slider_position = slider_gate_.output(time());
+  h.last_rejection = motor_gate_.lastRejection().empty() ? slider_gate_.lastRejection()
+                                                         : motor_gate_.lastRejection();
+  h.last_solver_failure = last_failure_;
+  if (halted_) {
+    h.level = HealthLevel::Error;
+    h.message = "halted after a solver failure: " + last_failure_ + "; call reset";
+  } else if (solver_failures_ > 0) {
+    h.level = HealthLevel::Warn;
+    h.message = std::to_string(solver_failures_) +
+                " step(s) failed and were retried with the motor stopped; last: " + last_failure_;
+  } else if (h.failsafe_active) {
+    h.level = HealthLevel::Warn;
+    h.message = "command timeout: motor stopped by the failsafe";
+  }
+  return h;
+}
+
+}  // namespace flagella
