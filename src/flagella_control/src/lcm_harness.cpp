@@ -3,14 +3,8 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "flagella_sim/lcm_io/lcm_messages.h"
 
 namespace flagella_control {
-
-LcmChannels LcmChannels::withPrefix(const std::string& prefix) {
-  return {prefix + "ROD_STATE", prefix + "IMU", prefix + "MOTOR_COMMAND",
-          prefix + "SLIDER_COMMAND", prefix + "CONTROLLER_STATUS"};
-}
 
 // ---- simulator side -------------------------------------------------------------------------
 SimLcmShell::SimLcmShell(lcm::LCM& lcm, flagella::SimSession& session,

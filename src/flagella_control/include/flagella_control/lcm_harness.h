@@ -17,16 +17,13 @@
 #include <string>
 
 #include "flagella_control/controller_core.h"
+#include "flagella_sim/lcm_io/lcm_messages.h"
 #include "flagella_sim/runtime/rate_schedule.h"
 #include "flagella_sim/runtime/sim_session.h"
 
 namespace flagella_control {
 
-struct LcmChannels {
-  std::string rod_state, imu, motor_command, slider_command, controller_status;
-  /// PREFIX + ROD_STATE, IMU, MOTOR_COMMAND, SLIDER_COMMAND, CONTROLLER_STATUS.
-  static LcmChannels withPrefix(const std::string& prefix);
-};
+using flagella::LcmChannels;
 
 struct HarnessOptions {
   std::string lcm_url = "memq://";  ///< never default multicast in tests

@@ -13,6 +13,13 @@
 
 namespace flagella {
 
+/// LCM channel names of one robot: PREFIX + ROD_STATE, IMU, MOTOR_COMMAND, SLIDER_COMMAND,
+/// CONTROLLER_STATUS (the bridge, the harness and any LCM controller agree on these).
+struct LcmChannels {
+  std::string rod_state, imu, motor_command, slider_command, controller_status;
+  static LcmChannels withPrefix(const std::string& prefix);
+};
+
 /// Header stamp from simulated time [s].
 flagella_lcm::header_t lcmHeader(double time, const std::string& frame_id, int seq = 0);
 

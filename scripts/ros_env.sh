@@ -1,0 +1,12 @@
+# Sourced by scripts and tests that run ROS: the workspace's devel space, a private master
+# port on loopback and a temporary ROS_HOME (logs), so nothing touches ~/.ros or the network.
+# Usage: source scripts/ros_env.sh [devel/setup.bash]   (default: this checkout's devel space)
+source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
+set +u
+# shellcheck disable=SC1090
+source "${1:-$FLAGELLA_ROOT/devel/setup.bash}"
+set -u
+ROS_TMP="$(mktemp -d)"
+ROS_PORT="$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')"
+export ROS_HOME="$ROS_TMP/ros_home" ROS_HOSTNAME=localhost ROS_MASTER_URI="http://localhost:$ROS_PORT"
+mkdir -p "$ROS_HOME"
