@@ -3,7 +3,6 @@
 #include <chrono>
 #include <stdexcept>
 
-
 namespace flagella_control {
 
 // ---- simulator side -------------------------------------------------------------------------
@@ -36,13 +35,15 @@ void SimLcmShell::publishDue(HarnessReport& report, bool force) {
   if (state_schedule_.due(t) || force) {
     const flagella::RodSnapshot snapshot = session_.snapshot();
     if (snapshot.allFinite()) {
-      const flagella_lcm::rod_state_t msg = flagella::toRodStateMessage(snapshot, options_.world_frame);
+      const flagella_lcm::rod_state_t msg =
+          flagella::toRodStateMessage(snapshot, options_.world_frame);
       lcm_.publish(channels_.rod_state, &msg);
       ++report.published[channels_.rod_state];
     }
   }
   if (imu_schedule_.due(t) || force) {
-    const flagella_lcm::imu_t msg = flagella::toImuMessage(session_.measureImu(), options_.imu_frame);
+    const flagella_lcm::imu_t msg =
+        flagella::toImuMessage(session_.measureImu(), options_.imu_frame);
     lcm_.publish(channels_.imu, &msg);
     ++report.published[channels_.imu];
   }

@@ -16,7 +16,7 @@ namespace flagella_control {
 namespace {
 
 const std::string kConfig = std::string(FLAGELLA_CONFIG_DIR) + "/interface_path_planning.yaml";
-constexpr double kOmega = 43.27 * 2.0 * M_PI / 60.0;  // [rad/s], the config's omega_H
+constexpr double kOmega = 43.27 * 2.0 * M_PI / 60.0;   // [rad/s], the config's omega_H
 constexpr double kHalfPeriod = 5.0;                    // [s]
 constexpr double kDuration = 20.0;                     // [s]: two full switching periods
 constexpr double kImuRate = 100.0, kStateRate = 20.0;  // [Hz]
@@ -43,7 +43,9 @@ HarnessOptions harnessOptions() {
   return o;
 }
 
-double schedule(double t) { return std::fmod(t, 2.0 * kHalfPeriod) < kHalfPeriod ? kOmega : -kOmega; }
+double schedule(double t) {
+  return std::fmod(t, 2.0 * kHalfPeriod) < kHalfPeriod ? kOmega : -kOmega;
+}
 
 TEST(LcmHarness, EveryMessageArrivesAndCommandsApplyOnTheNextStep) {
   flagella::SimSession session(config(), sessionOptions());
@@ -95,8 +97,7 @@ class FaultyController : public ControllerCore {
   explicit FaultyController(double t_fault) : t_fault_(t_fault) {}
   ControllerOutputs step(const ControllerInputs& in) override {
     ControllerOutputs out;
-    out.motor_command =
-        in.time < t_fault_ ? kOmega : std::numeric_limits<double>::quiet_NaN();
+    out.motor_command = in.time < t_fault_ ? kOmega : std::numeric_limits<double>::quiet_NaN();
     out.mode = ControllerMode::Running;
     return out;
   }

@@ -2,7 +2,6 @@
 // master. Prints what was exchanged and where the robot went.
 //   flagella_lcm_harness config/interface_path_planning.yaml --duration 60 --omega-rpm 43.27
 #include <CLI/CLI.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -24,15 +23,20 @@ int main(int argc, char** argv) {
   app.add_option("--duration", duration, "simulated seconds")->check(CLI::PositiveNumber);
   app.add_option("--omega-rpm", omega_rpm, "periodic-switch controller: motor rate [rpm]")
       ->check(CLI::PositiveNumber);
-  app.add_option("--positive", positive, "time at +omega per period [s]")->check(CLI::PositiveNumber);
-  app.add_option("--negative", negative, "time at -omega per period [s]")->check(CLI::PositiveNumber);
+  app.add_option("--positive", positive, "time at +omega per period [s]")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--negative", negative, "time at -omega per period [s]")
+      ->check(CLI::PositiveNumber);
   app.add_option("--lcm-url", options.lcm_url, "LCM provider (memq:// keeps it in the process)");
-  app.add_option("--imu-rate", session_options.imu.rate, "IMU rate [Hz]")->check(CLI::PositiveNumber);
-  app.add_option("--state-rate", options.state_rate, "rod state rate [Hz]")->check(CLI::PositiveNumber);
+  app.add_option("--imu-rate", session_options.imu.rate, "IMU rate [Hz]")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--state-rate", options.state_rate, "rod state rate [Hz]")
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
 
   try {
-    const flagella::SimulationConfig config = flagella::loadSimulationConfig(config_path, overrides);
+    const flagella::SimulationConfig config =
+        flagella::loadSimulationConfig(config_path, overrides);
     flagella::SimSession session(config, session_options);
     flagella_control::PeriodicSwitchController controller(omega_rpm * 2.0 * M_PI / 60.0, positive,
                                                           negative);
@@ -40,17 +44,16 @@ int main(int argc, char** argv) {
     const flagella::RodSnapshot start = session.snapshot();
     const flagella_control::HarnessReport report = harness.run(duration);
     const flagella::RodSnapshot end = session.snapshot();
-    std::printf("simulated %.3f s in %.3f s wall (%.1fx real time), %ld steps%s\n",
-                report.sim_time, report.wall_seconds, report.sim_time / report.wall_seconds,
-                report.steps, report.halted ? ", HALTED by a solver failure" : "");
+    std::printf("simulated %.3f s in %.3f s wall (%.1fx real time), %ld steps%s\n", report.sim_time,
+                report.wall_seconds, report.sim_time / report.wall_seconds, report.steps,
+                report.halted ? ", HALTED by a solver failure" : "");
     for (const auto& [channel, count] : report.published)
       std::printf("  published %-28s %ld\n", channel.c_str(), count);
     for (const auto& [channel, count] : report.received)
       std::printf("  received  %-28s %ld\n", channel.c_str(), count);
     const flagella::Vec3 moved = end.head_position - start.head_position;
-    std::printf("head moved (%.2f, %.2f, %.2f) mm; motor commands rejected: %ld\n",
-                1e3 * moved.x(), 1e3 * moved.y(), 1e3 * moved.z(),
-                session.health().motor_rejected);
+    std::printf("head moved (%.2f, %.2f, %.2f) mm; motor commands rejected: %ld\n", 1e3 * moved.x(),
+                1e3 * moved.y(), 1e3 * moved.z(), session.health().motor_rejected);
     return report.halted ? 3 : 0;
   } catch (const flagella::ConfigError& e) {
     std::cerr << "configuration error: " << e.what() << "\n";

@@ -216,9 +216,13 @@ TEST(LcmSchema, TwinsHaveTheSameFieldsInTheSameOrder) {
     EXPECT_EQ(ros_fields, lcmFields(root + "/" + pair.lcm)) << pair.msg << " vs " << pair.lcm;
   }
   // sensor_msgs/Imu is not ours: its twin must list the standard message's fields.
-  const std::vector<std::string> imu_fields = {
-      "header", "orientation", "orientation_covariance", "angular_velocity",
-      "angular_velocity_covariance", "linear_acceleration", "linear_acceleration_covariance"};
+  const std::vector<std::string> imu_fields = {"header",
+                                               "orientation",
+                                               "orientation_covariance",
+                                               "angular_velocity",
+                                               "angular_velocity_covariance",
+                                               "linear_acceleration",
+                                               "linear_acceleration_covariance"};
   EXPECT_EQ(imu_fields, lcmFields(root + "/lcm/imu_t.lcm"));
 }
 

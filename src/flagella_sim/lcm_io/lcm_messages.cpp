@@ -36,8 +36,8 @@ void diagonal(double variance, double (&covariance)[9]) {
 }  // namespace
 
 LcmChannels LcmChannels::withPrefix(const std::string& prefix) {
-  return {prefix + "ROD_STATE", prefix + "IMU", prefix + "MOTOR_COMMAND",
-          prefix + "SLIDER_COMMAND", prefix + "CONTROLLER_STATUS"};
+  return {prefix + "ROD_STATE", prefix + "IMU", prefix + "MOTOR_COMMAND", prefix + "SLIDER_COMMAND",
+          prefix + "CONTROLLER_STATUS"};
 }
 
 flagella_lcm::header_t lcmHeader(double time, const std::string& frame_id, int seq) {

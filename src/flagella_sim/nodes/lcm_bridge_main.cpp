@@ -1,17 +1,15 @@
 // flagella_lcm_bridge: mirrors one robot's rod state and IMU from ROS onto LCM, and LCM motor,
 // slider and controller-status messages onto ROS, with the converters of flagella_msgs.
 // Default provider: udpm with ttl=0 (never leaves the host). Tests use file:// or memq://.
-#include <ros/ros.h>
-
 #include <flagella_msgs/ControllerStatus.h>
 #include <flagella_msgs/MotorCommand.h>
 #include <flagella_msgs/RodState.h>
 #include <flagella_msgs/SliderCommand.h>
 #include <flagella_msgs/lcm_conversions.h>
+#include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 
 #include <lcm/lcm-cpp.hpp>
-
 #include <memory>
 #include <string>
 

@@ -10,14 +10,14 @@ namespace flagella_ros {
 namespace {
 constexpr double kRpmToRadPerSecond = 2.0 * M_PI / 60.0;
 constexpr double kMaxMotorRpm = 1e5;
-constexpr double kMaxTimeout = 1e6;    // [s]
+constexpr double kMaxTimeout = 1e6;  // [s]
 constexpr double kMaxNoise = 1e3;
-constexpr double kMaxImuRate = 1e4;    // [Hz]
+constexpr double kMaxImuRate = 1e4;       // [Hz]
 constexpr double kMaxSliderTravel = 1.0;  // [m]
 }  // namespace
 
-double rangedParam(const ros::NodeHandle& nh, const std::string& name, double fallback,
-                   double min, double max, const std::string& unit) {
+double rangedParam(const ros::NodeHandle& nh, const std::string& name, double fallback, double min,
+                   double max, const std::string& unit) {
   double value = fallback;
   if (nh.hasParam(name) && !nh.getParam(name, value)) {
     // Present but not a number (a string, a list...).
@@ -25,7 +25,8 @@ double rangedParam(const ros::NodeHandle& nh, const std::string& name, double fa
                                 std::to_string(min) + ", " + std::to_string(max) + "] " + unit);
   }
   if (!(value >= min && value <= max))
-    throw flagella::ConfigError(flagella::rangeMessage("parameter ~" + name, value, min, max, unit));
+    throw flagella::ConfigError(
+        flagella::rangeMessage("parameter ~" + name, value, min, max, unit));
   return value;
 }
 
@@ -57,7 +58,8 @@ flagella::SessionOptions sessionOptionsFromParams(const ros::NodeHandle& nh) {
   o.command_timeout = rangedParam(nh, "command_timeout", o.command_timeout, 0.0, kMaxTimeout,
                                   "s of simulated time (0: no failsafe)");
   nh.param<std::string>("initial_motor", o.initial_motor, o.initial_motor);
-  o.slider_min = rangedParam(nh, "slider_min", o.slider_min, -kMaxSliderTravel, kMaxSliderTravel, "m");
+  o.slider_min =
+      rangedParam(nh, "slider_min", o.slider_min, -kMaxSliderTravel, kMaxSliderTravel, "m");
   o.slider_max = rangedParam(nh, "slider_max", o.slider_max, o.slider_min, kMaxSliderTravel, "m");
   o.imu.rate = rangedParam(nh, "imu_rate", o.imu.rate, 1e-3, kMaxImuRate, "Hz");
   o.imu.orientation_noise_std =

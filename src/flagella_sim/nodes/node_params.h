@@ -12,8 +12,8 @@
 namespace flagella_ros {
 
 /// A double parameter in [min, max], or `fallback` if unset.
-double rangedParam(const ros::NodeHandle& nh, const std::string& name, double fallback,
-                   double min, double max, const std::string& unit);
+double rangedParam(const ros::NodeHandle& nh, const std::string& name, double fallback, double min,
+                   double max, const std::string& unit);
 /// A 3-vector parameter (list of 3 numbers), or `fallback` if unset.
 flagella::Vec3 vectorParam(const ros::NodeHandle& nh, const std::string& name,
                            const flagella::Vec3& fallback);

@@ -66,8 +66,8 @@ visualization_msgs::MarkerArray rodMarkers(const flagella::RodSnapshot& s, const
                                            const MarkerStyle& style) {
   visualization_msgs::MarkerArray array;
   // Head: front node, centre, joint (the rigid part along the axis).
-  const std::vector<int> head_axis_nodes(s.head_nodes.begin(),
-                                         s.head_nodes.begin() + std::min<std::size_t>(3, s.head_nodes.size()));
+  const std::vector<int> head_axis_nodes(
+      s.head_nodes.begin(), s.head_nodes.begin() + std::min<std::size_t>(3, s.head_nodes.size()));
   array.markers.push_back(
       lineStrip(s, head_axis_nodes, "head", 0, style.head_width, {0.55f, 0.55f, 0.60f}));
   for (std::size_t k = 0; k < s.tail_nodes.size(); ++k)
@@ -85,8 +85,8 @@ std::vector<geometry_msgs::TransformStamped> rodTransforms(const flagella::RodSn
                                                            const std::string& world_frame,
                                                            const std::string& prefix) {
   std::vector<geometry_msgs::TransformStamped> out;
-  out.push_back(transform(s.head_position, s.head_orientation, stamp, world_frame,
-                          prefix + "/head"));
+  out.push_back(
+      transform(s.head_position, s.head_orientation, stamp, world_frame, prefix + "/head"));
   for (std::size_t k = 0; k < s.tail_nodes.size(); ++k) {
     const std::vector<int>& nodes = s.tail_nodes[k];
     if (nodes.size() < 2) continue;
@@ -121,9 +121,15 @@ diagnostic_msgs::DiagnosticStatus sessionStatus(const flagella::SessionHealth& h
   d.name = name;
   d.hardware_id = "flagella_sim";
   switch (h.level) {
-    case flagella::HealthLevel::Ok: d.level = diagnostic_msgs::DiagnosticStatus::OK; break;
-    case flagella::HealthLevel::Warn: d.level = diagnostic_msgs::DiagnosticStatus::WARN; break;
-    case flagella::HealthLevel::Error: d.level = diagnostic_msgs::DiagnosticStatus::ERROR; break;
+    case flagella::HealthLevel::Ok:
+      d.level = diagnostic_msgs::DiagnosticStatus::OK;
+      break;
+    case flagella::HealthLevel::Warn:
+      d.level = diagnostic_msgs::DiagnosticStatus::WARN;
+      break;
+    case flagella::HealthLevel::Error:
+      d.level = diagnostic_msgs::DiagnosticStatus::ERROR;
+      break;
   }
   d.message = h.message;
   d.values = {keyValue("sim_time", std::to_string(sim_time)),

@@ -2,11 +2,10 @@
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <flagella_msgs/RodState.h>
+#include <flagella_msgs/lcm_conversions.h>
 #include <sensor_msgs/Imu.h>
 #include <tf2_msgs/TFMessage.h>
 #include <visualization_msgs/MarkerArray.h>
-
-#include <flagella_msgs/lcm_conversions.h>
 
 #include "flagella_sim/lcm_io/lcm_messages.h"
 #include "flagella_sim/simulation/simulation_config.h"
@@ -15,13 +14,13 @@
 namespace flagella_ros {
 
 namespace {
-constexpr double kMaxRate = 1e4;               // [Hz]
+constexpr double kMaxRate = 1e4;  // [Hz]
 constexpr double kMaxRealTimeFactor = 1e6;
-constexpr double kMaxDuration = 1e9;           // [s]
-constexpr double kIdlePoll = 0.005;            // [s wall] poll period while paused or waiting
-constexpr double kMaxPaceSleep = 0.002;        // [s wall] longest sleep while pacing
-constexpr double kDrainTime = 1.0;             // [s wall] let subscribers receive the last messages
-constexpr double kWallDiagnosticsPeriod = 1.0; // [s wall] diagnostics while paused or halted
+constexpr double kMaxDuration = 1e9;     // [s]
+constexpr double kIdlePoll = 0.005;      // [s wall] poll period while paused or waiting
+constexpr double kMaxPaceSleep = 0.002;  // [s wall] longest sleep while pacing
+constexpr double kDrainTime = 1.0;       // [s wall] let subscribers receive the last messages
+constexpr double kWallDiagnosticsPeriod = 1.0;  // [s wall] diagnostics while paused or halted
 // Outgoing queue per subscriber: deep enough that a recorder keeps up with a session running
 // many times faster than real time (100 Hz IMU at 30x is 3000 messages per second).
 constexpr int kQueue = 5000;
@@ -49,13 +48,15 @@ SimNodeOptions nodeOptionsFromParams(const ros::NodeHandle& nh, const ros::NodeH
   o.path_rate = rangedParam(pnh, "path_rate", o.path_rate, 1e-3, kMaxRate, "Hz");
   o.diagnostics_rate =
       rangedParam(pnh, "diagnostics_rate", o.diagnostics_rate, 1e-3, kMaxRate, "Hz");
-  o.path_max_poses = static_cast<int>(
-      rangedParam(pnh, "path_max_poses", o.path_max_poses, 1, 1e7, "poses"));
+  o.path_max_poses =
+      static_cast<int>(rangedParam(pnh, "path_max_poses", o.path_max_poses, 1, 1e7, "poses"));
   o.duration = rangedParam(pnh, "duration", o.duration, 0.0, kMaxDuration, "s (0: forever)");
   pnh.param("wait_for_subscribers", o.wait_for_subscribers, o.wait_for_subscribers);
   o.wait_timeout = rangedParam(pnh, "wait_timeout", o.wait_timeout, 0.0, 1e6, "s");
-  o.markers.tail_width = rangedParam(pnh, "marker_tail_width", o.markers.tail_width, 1e-5, 1.0, "m");
-  o.markers.head_width = rangedParam(pnh, "marker_head_width", o.markers.head_width, 1e-5, 1.0, "m");
+  o.markers.tail_width =
+      rangedParam(pnh, "marker_tail_width", o.markers.tail_width, 1e-5, 1.0, "m");
+  o.markers.head_width =
+      rangedParam(pnh, "marker_head_width", o.markers.head_width, 1e-5, 1.0, "m");
   return o;
 }
 
@@ -78,8 +79,10 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
   session_ = std::make_unique<flagella::SimSession>(config, session_options);
   status_name_ = options_.tf_prefix + ": flagella_sim";
 
-  if (options_.publish_clock) clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", kQueue);
-  else clock_sub_ = nh.subscribe("/clock", kQueue, &SimNode::onClock, this);
+  if (options_.publish_clock)
+    clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", kQueue);
+  else
+    clock_sub_ = nh.subscribe("/clock", kQueue, &SimNode::onClock, this);
   state_pub_ = nh.advertise<flagella_msgs::RodState>("rod_state", kQueue);
   imu_pub_ = nh.advertise<sensor_msgs::Imu>("imu", kQueue);
   marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", kQueue);
@@ -93,12 +96,13 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
   path_.header.frame_id = options_.world_frame;
 
   const auto& net = session_->simulation().network();
-  ROS_INFO_STREAM("flagella_sim: " << config.robot_name << " from " << options_.config_path << ", "
-                                   << net.numNodes() << " nodes, dt " << config.dt << " s, "
-                                   << (options_.real_time_factor > 0.0
-                                           ? std::to_string(options_.real_time_factor) + "x real time"
-                                           : std::string("as fast as possible"))
-                                   << (options_.publish_clock ? "" : ", following /clock"));
+  ROS_INFO_STREAM("flagella_sim: "
+                  << config.robot_name << " from " << options_.config_path << ", " << net.numNodes()
+                  << " nodes, dt " << config.dt << " s, "
+                  << (options_.real_time_factor > 0.0
+                          ? std::to_string(options_.real_time_factor) + "x real time"
+                          : std::string("as fast as possible"))
+                  << (options_.publish_clock ? "" : ", following /clock"));
 }
 
 template <typename M>
@@ -148,8 +152,8 @@ bool SimNode::onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Respon
 bool SimNode::waitForSubscribers() {
   if (!options_.wait_for_subscribers) return true;
   const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(options_.wait_timeout);
-  ros::Publisher* outputs[] = {&state_pub_, &imu_pub_, &marker_pub_, &path_pub_, &tf_pub_,
-                               &diag_pub_};
+  ros::Publisher* outputs[] = {&state_pub_, &imu_pub_, &marker_pub_,
+                               &path_pub_,  &tf_pub_,  &diag_pub_};
   while (ros::ok()) {
     bool all = true;
     for (ros::Publisher* p : outputs) all = all && p->getNumSubscribers() > 0;
@@ -203,12 +207,14 @@ void SimNode::publishOutputs(bool force) {
     flagella_msgs::RodState msg =
         flagella_msgs::toRos(flagella::toRodStateMessage(snapshot, options_.world_frame));
     msg.header.stamp = now;
+    msg.robot_name = options_.tf_prefix;  // this robot's instance name, not its config type
     publish(state_pub_, msg);
     tf2_msgs::TFMessage tf;
     tf.transforms = rodTransforms(snapshot, now, options_.world_frame, options_.tf_prefix);
     publish(tf_pub_, tf);
   }
-  if (marker_due) publish(marker_pub_, rodMarkers(snapshot, now, options_.world_frame, options_.markers));
+  if (marker_due)
+    publish(marker_pub_, rodMarkers(snapshot, now, options_.world_frame, options_.markers));
   if (path_due) {
     path_.poses.push_back(headPose(snapshot, now, options_.world_frame));
     if (static_cast<int>(path_.poses.size()) > options_.path_max_poses)
@@ -252,10 +258,11 @@ void SimNode::printSummary() const {
     topics << " " << topic << "=" << count;
   }
   const flagella::SessionHealth h = session_->health();
-  ROS_INFO("flagella_sim: %.3f s simulated in %.3f s wall (%.2fx real time), %ld steps, "
-           "%ld Newton iterations, %ld solver failures; %ld messages (%.0f/s):%s",
-           clockTime(), wall, wall > 0 ? clockTime() / wall : 0.0, h.steps, h.newton_iterations,
-           h.solver_failures, total, wall > 0 ? total / wall : 0.0, topics.str().c_str());
+  ROS_INFO(
+      "flagella_sim: %.3f s simulated in %.3f s wall (%.2fx real time), %ld steps, "
+      "%ld Newton iterations, %ld solver failures; %ld messages (%.0f/s):%s",
+      clockTime(), wall, wall > 0 ? clockTime() / wall : 0.0, h.steps, h.newton_iterations,
+      h.solver_failures, total, wall > 0 ? total / wall : 0.0, topics.str().c_str());
 }
 
 int SimNode::run() {

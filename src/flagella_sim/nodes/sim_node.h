@@ -2,14 +2,13 @@
 // /clock, services. See the README's "ROS interface" section for every topic and parameter.
 #pragma once
 
-#include <ros/ros.h>
-#include <std_srvs/SetBool.h>
-#include <std_srvs/Trigger.h>
-
 #include <flagella_msgs/MotorCommand.h>
 #include <flagella_msgs/SliderCommand.h>
 #include <nav_msgs/Path.h>
+#include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
+#include <std_srvs/SetBool.h>
+#include <std_srvs/Trigger.h>
 
 #include <map>
 #include <memory>
@@ -24,15 +23,15 @@ namespace flagella_ros {
 struct SimNodeOptions {
   std::string config_path;
   std::string world_frame = "world";
-  std::string tf_prefix;            ///< frames <tf_prefix>/head, <tf_prefix>/tail<k>
-  double real_time_factor = 1.0;    ///< 0: as fast as possible
-  bool publish_clock = true;        ///< false: follow /clock published by another node
+  std::string tf_prefix;          ///< frames <tf_prefix>/head, <tf_prefix>/tail<k>
+  double real_time_factor = 1.0;  ///< 0: as fast as possible
+  bool publish_clock = true;      ///< false: follow /clock published by another node
   double state_rate = 20.0, imu_rate = 100.0, marker_rate = 10.0, path_rate = 5.0;
-  double diagnostics_rate = 1.0;    ///< [Hz of simulated time]
+  double diagnostics_rate = 1.0;  ///< [Hz of simulated time]
   int path_max_poses = 10000;
-  double duration = 0.0;            ///< stop after this much simulated time; 0: run until killed
+  double duration = 0.0;              ///< stop after this much simulated time; 0: run until killed
   bool wait_for_subscribers = false;  ///< hold t = 0 until every output topic has a subscriber
-  double wait_timeout = 30.0;       ///< [s wall] then start anyway, with a warning
+  double wait_timeout = 30.0;         ///< [s wall] then start anyway, with a warning
   MarkerStyle markers;
 };
 

@@ -71,8 +71,7 @@ TEST(ImuModel, NoiseFreeReadsTheMotionInTheHeadFrame) {
     EXPECT_NEAR(s.angular_velocity[i], R.col(i).dot(truth.angular_velocity), kExactTol);
     EXPECT_NEAR(s.linear_acceleration[i], R.col(i).dot(truth.acceleration - kGravity), kExactTol);
   }
-  EXPECT_LT((s.orientation.coeffs() - truth.orientation.coeffs()).cwiseAbs().maxCoeff(),
-            kExactTol);
+  EXPECT_LT((s.orientation.coeffs() - truth.orientation.coeffs()).cwiseAbs().maxCoeff(), kExactTol);
   EXPECT_EQ(s.time, truth.time);
   EXPECT_EQ(s.orientation_variance, 0.0);
   EXPECT_EQ(s.angular_velocity_variance, 0.0);
@@ -238,11 +237,10 @@ TEST(HeadMotionTracker, NoMotionBeforeTheSecondUpdate) {
 
 // Constant rotation rate about a fixed axis (world axis: q(t) = R(w t) q0; body axis:
 // q(t) = q0 R(w t)); the world angular velocity is w * axis resp. w * R0 axis.
-void expectConstantSpinRecovered(const Vec3& axis, double rate, bool body_axis,
-                                 bool flip_signs) {
-  SCOPED_TRACE(::testing::Message() << "axis " << axis.transpose() << " rate " << rate
-                                    << (body_axis ? " body" : " world")
-                                    << (flip_signs ? " flipped signs" : ""));
+void expectConstantSpinRecovered(const Vec3& axis, double rate, bool body_axis, bool flip_signs) {
+  SCOPED_TRACE(::testing::Message()
+               << "axis " << axis.transpose() << " rate " << rate
+               << (body_axis ? " body" : " world") << (flip_signs ? " flipped signs" : ""));
   const Eigen::Quaterniond q0 = arbitraryOrientation();
   const Vec3 expected = rate * (body_axis ? Vec3(q0 * axis) : axis);
   const Vec3 v0(0.1, -0.2, 0.3), accel(-1.5, 0.25, 4.0);
@@ -250,7 +248,8 @@ void expectConstantSpinRecovered(const Vec3& axis, double rate, bool body_axis,
   for (int k = 0; k <= kTrackerSteps; ++k) {
     const double t = kStartTime + k * kDt;
     const Eigen::AngleAxisd turn(rate * (t - kStartTime), axis);
-    Eigen::Quaterniond q = body_axis ? Eigen::Quaterniond(q0 * turn) : Eigen::Quaterniond(turn * q0);
+    Eigen::Quaterniond q =
+        body_axis ? Eigen::Quaterniond(q0 * turn) : Eigen::Quaterniond(turn * q0);
     // q and -q are the same orientation; a pose source may hand over either.
     if (flip_signs && k % 2 == 1) q.coeffs() = -q.coeffs();
     tracker.update(t, q, v0 + accel * (t - kStartTime));
@@ -263,8 +262,8 @@ void expectConstantSpinRecovered(const Vec3& axis, double rate, bool body_axis,
 }
 
 TEST(HeadMotionTracker, RecoversConstantSpinAndAcceleration) {
-  for (const Vec3& axis : {Vec3(Vec3::UnitZ()), Vec3(Vec3::UnitX()),
-                           Vec3(Vec3(1.0, -2.0, 0.5).normalized())})
+  for (const Vec3& axis :
+       {Vec3(Vec3::UnitZ()), Vec3(Vec3::UnitX()), Vec3(Vec3(1.0, -2.0, 0.5).normalized())})
     for (double rate : {kSpinRate, -kSpinRate})
       for (bool body : {false, true})
         for (bool flip : {false, true}) expectConstantSpinRecovered(axis, rate, body, flip);

@@ -52,9 +52,8 @@ const std::vector<std::string> kImpossibleSolver{
     "solver.max_iterations=1", "solver.residual_tolerance=1e-14", "solver.max_subdivision_depth=2"};
 // A marginal solver: 4 iterations and no subdivision follow the motor's 2 s soft start to steady
 // 100 rpm, but neither an abrupt reversal nor an abrupt stop from there converges.
-const std::vector<std::string> kMarginalSolver{"solver.max_iterations=4",
-                                               "solver.max_subdivision_depth=0",
-                                               "motor.ramp_time=2"};
+const std::vector<std::string> kMarginalSolver{
+    "solver.max_iterations=4", "solver.max_subdivision_depth=0", "motor.ramp_time=2"};
 constexpr int kMarginalWarmupSteps = 300;
 
 std::string shippedConfig(const std::string& name) { return std::string(kConfigDir) + "/" + name; }
@@ -101,9 +100,9 @@ TEST(SimSession, ImuOrientationIsTheSnapshotHeadOrientation) {
   for (const char* name : {kDesign1, kInterfaceRobot}) {
     SCOPED_TRACE(name);
     SimSession session(load(name), SessionOptions{});
-    EXPECT_LT(quaternionDistance(session.measureImu().orientation,
-                                 session.snapshot().head_orientation),
-              kExactTol);
+    EXPECT_LT(
+        quaternionDistance(session.measureImu().orientation, session.snapshot().head_orientation),
+        kExactTol);
     for (int k = 0; k < kSomeSteps; ++k) {
       ASSERT_TRUE(session.step());
       const ImuSample imu = session.measureImu();
@@ -211,7 +210,8 @@ TEST(SimSession, BadMotorCommandsAreRejectedAndTheLastValidOneKept) {
   EXPECT_EQ(session.health().motor_accepted, 1);
   ASSERT_TRUE(session.step());
   EXPECT_EQ(session.health().motor_applied, kCommand);
-  EXPECT_TRUE(contains(session.health().last_rejection, "motor")) << session.health().last_rejection;
+  EXPECT_TRUE(contains(session.health().last_rejection, "motor"))
+      << session.health().last_rejection;
   EXPECT_EQ(session.health().level, HealthLevel::Ok);
   // The range bound itself is allowed.
   EXPECT_EQ(session.commandMotor(-options.max_motor_speed), CommandVerdict::Accepted);

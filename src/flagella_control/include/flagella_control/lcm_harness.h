@@ -4,15 +4,13 @@
 // With the default memq:// provider everything stays inside the process.
 #pragma once
 
-#include <lcm/lcm-cpp.hpp>
-
 #include <flagella_lcm/controller_status_t.hpp>
 #include <flagella_lcm/imu_t.hpp>
 #include <flagella_lcm/motor_command_t.hpp>
 #include <flagella_lcm/rod_state_t.hpp>
 #include <flagella_lcm/slider_command_t.hpp>
-
 #include <functional>
+#include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <string>
 

@@ -3,11 +3,6 @@
 // are lossless, which test/test_lcm_round_trip.cpp checks.
 #pragma once
 
-#include <flagella_lcm/controller_status_t.hpp>
-#include <flagella_lcm/imu_t.hpp>
-#include <flagella_lcm/motor_command_t.hpp>
-#include <flagella_lcm/rod_state_t.hpp>
-#include <flagella_lcm/slider_command_t.hpp>
 #include <flagella_msgs/ControllerStatus.h>
 #include <flagella_msgs/MotorCommand.h>
 #include <flagella_msgs/RodState.h>
@@ -16,6 +11,11 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <flagella_lcm/controller_status_t.hpp>
+#include <flagella_lcm/imu_t.hpp>
+#include <flagella_lcm/motor_command_t.hpp>
+#include <flagella_lcm/rod_state_t.hpp>
+#include <flagella_lcm/slider_command_t.hpp>
 #include <vector>
 
 namespace flagella_msgs {

@@ -10,8 +10,8 @@ namespace flagella {
 CommandGate::CommandGate(CommandGateOptions options) : options_(std::move(options)) {
   if (!(options_.min <= options_.max))
     throw std::invalid_argument(options_.field + ": empty allowed range [" +
-                                std::to_string(options_.min) + ", " +
-                                std::to_string(options_.max) + "]");
+                                std::to_string(options_.min) + ", " + std::to_string(options_.max) +
+                                "]");
   if (!(options_.safe_value >= options_.min && options_.safe_value <= options_.max))
     throw std::invalid_argument(options_.field + ": safe value outside the allowed range");
   if (!(options_.timeout >= 0.0) || !std::isfinite(options_.timeout))
@@ -27,9 +27,9 @@ CommandVerdict CommandGate::submit(double value, double now) {
   }
   if (value < options_.min || value > options_.max) {
     ++rejected_;
-    last_rejection_ = rangeMessage(options_.field, value, options_.min, options_.max,
-                                   options_.unit) +
-                      "; keeping the last valid command";
+    last_rejection_ =
+        rangeMessage(options_.field, value, options_.min, options_.max, options_.unit) +
+        "; keeping the last valid command";
     return CommandVerdict::OutOfRange;
   }
   ++accepted_;

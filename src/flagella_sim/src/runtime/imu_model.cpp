@@ -7,13 +7,14 @@
 namespace flagella {
 
 namespace {
-constexpr double kMaxImuRate = 1e4;          // [Hz]
-constexpr double kMaxNoiseStd = 1e3;         // any unit; beyond this the sensor is meaningless
+constexpr double kMaxImuRate = 1e4;   // [Hz]
+constexpr double kMaxNoiseStd = 1e3;  // any unit; beyond this the sensor is meaningless
 constexpr double kMaxBias = 1e3;
 
 void requireInRange(const std::string& field, double value, double min, double max,
                     const std::string& unit) {
-  if (!(value >= min && value <= max)) throw ConfigError(rangeMessage(field, value, min, max, unit));
+  if (!(value >= min && value <= max))
+    throw ConfigError(rangeMessage(field, value, min, max, unit));
 }
 }  // namespace
 
@@ -25,8 +26,8 @@ void ImuOptions::validate() const {
   for (int i = 0; i < 3; ++i) {
     requireInRange("imu.gyro_bias[" + std::to_string(i) + "]", gyro_bias[i], -kMaxBias, kMaxBias,
                    "rad/s");
-    requireInRange("imu.accel_bias[" + std::to_string(i) + "]", accel_bias[i], -kMaxBias,
-                   kMaxBias, "m/s^2");
+    requireInRange("imu.accel_bias[" + std::to_string(i) + "]", accel_bias[i], -kMaxBias, kMaxBias,
+                   "m/s^2");
   }
 }
 
@@ -46,12 +47,11 @@ ImuSample ImuModel::measure(const HeadMotion& truth) {
   const Eigen::Matrix3d world_from_head = truth.orientation.toRotationMatrix();
   // Orientation error as a small rotation about a random axis (head frame).
   const Vec3 tilt = noise(options_.orientation_noise_std);
-  const Eigen::Quaterniond error(Eigen::AngleAxisd(tilt.norm(), tilt.norm() > 0.0
-                                                                     ? Vec3(tilt.normalized())
-                                                                     : Vec3::UnitZ()));
+  const Eigen::Quaterniond error(
+      Eigen::AngleAxisd(tilt.norm(), tilt.norm() > 0.0 ? Vec3(tilt.normalized()) : Vec3::UnitZ()));
   s.orientation = (truth.orientation * error).normalized();
-  s.angular_velocity = world_from_head.transpose() * truth.angular_velocity +
-                       options_.gyro_bias + noise(options_.gyro_noise_std);
+  s.angular_velocity = world_from_head.transpose() * truth.angular_velocity + options_.gyro_bias +
+                       noise(options_.gyro_noise_std);
   // Specific force f = a - g: an accelerometer at rest reads +|g| along the vertical.
   s.linear_acceleration = world_from_head.transpose() * (truth.acceleration - gravity_) +
                           options_.accel_bias + noise(options_.accel_noise_std);

@@ -7,9 +7,9 @@
 namespace flagella {
 
 namespace {
-constexpr double kMaxMotorSpeed = 1e4;     // [rad/s], far above any soft robot's motor
-constexpr double kMaxCommandTimeout = 1e6; // [s]
-constexpr double kMaxSliderTravel = 1.0;   // [m]
+constexpr double kMaxMotorSpeed = 1e4;      // [rad/s], far above any soft robot's motor
+constexpr double kMaxCommandTimeout = 1e6;  // [s]
+constexpr double kMaxSliderTravel = 1.0;    // [m]
 
 CommandGateOptions motorGateOptions(const SessionOptions& o) {
   CommandGateOptions g;
@@ -33,7 +33,8 @@ CommandGateOptions sliderGateOptions(const SessionOptions& o) {
 
 void requireInRange(const std::string& field, double value, double min, double max,
                     const std::string& unit) {
-  if (!(value >= min && value <= max)) throw ConfigError(rangeMessage(field, value, min, max, unit));
+  if (!(value >= min && value <= max))
+    throw ConfigError(rangeMessage(field, value, min, max, unit));
 }
 }  // namespace
 

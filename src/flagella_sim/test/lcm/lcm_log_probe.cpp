@@ -4,15 +4,13 @@
 // `check` exits non-zero unless the log holds decodable, finite rod states and IMU samples,
 // some rod state shows the commanded motor rate (the command went LCM -> ROS -> simulator and
 // the state came back ROS -> LCM) and a later one shows the motor stopped (failsafe).
-#include <lcm/lcm-cpp.hpp>
-
-#include <flagella_lcm/imu_t.hpp>
-#include <flagella_lcm/motor_command_t.hpp>
-#include <flagella_lcm/rod_state_t.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <flagella_lcm/imu_t.hpp>
+#include <flagella_lcm/motor_command_t.hpp>
+#include <flagella_lcm/rod_state_t.hpp>
+#include <lcm/lcm-cpp.hpp>
 #include <string>
 
 #include "flagella_sim/lcm_io/lcm_messages.h"
@@ -66,8 +64,10 @@ int check(const char* path, double omega) {
       if (first_commanded >= 0 && s.omega_motor == 0.0 && stopped_after < 0) stopped_after = t;
     } else if (event->channel == kChannels.imu) {
       flagella_lcm::imu_t m;
-      if (m.decode(event->data, 0, event->datalen) < 0) ++bad;
-      else ++imus;
+      if (m.decode(event->data, 0, event->datalen) < 0)
+        ++bad;
+      else
+        ++imus;
     }
   }
   std::printf("LCM log: %ld rod states, %ld IMU samples, %ld undecodable or non-finite\n", states,

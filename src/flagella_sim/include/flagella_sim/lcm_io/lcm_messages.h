@@ -5,7 +5,6 @@
 
 #include <flagella_lcm/imu_t.hpp>
 #include <flagella_lcm/rod_state_t.hpp>
-
 #include <string>
 
 #include "flagella_sim/runtime/imu_model.h"

@@ -15,16 +15,16 @@ class Simulation;
 struct RodSnapshot {
   double time = 0.0;
   std::string robot_name;
-  std::vector<Vec3> nodes;                       ///< node positions [m]
-  std::vector<int> edge_start, edge_end;         ///< edge j: edge_start[j] -> edge_end[j]
-  std::vector<double> edge_twist;                ///< theta^j [rad]
-  std::vector<Eigen::Quaterniond> edge_frames;   ///< material frame (m1, m2, t) of each edge
-  std::vector<int> head_nodes;                   ///< rigid head, shaft and disc
-  std::vector<std::vector<int>> tail_nodes;      ///< per tail, root first
-  double omega_h = 0.0, omega_t = 0.0;           ///< signed spin rates [rad/s]
-  double omega_motor = 0.0;                      ///< motor rate applied [rad/s]
-  double head_angle = 0.0, tail_angle = 0.0;     ///< cumulative spin angles [rad]
-  Vec3 head_position = Vec3::Zero();             ///< x_1
+  std::vector<Vec3> nodes;                      ///< node positions [m]
+  std::vector<int> edge_start, edge_end;        ///< edge j: edge_start[j] -> edge_end[j]
+  std::vector<double> edge_twist;               ///< theta^j [rad]
+  std::vector<Eigen::Quaterniond> edge_frames;  ///< material frame (m1, m2, t) of each edge
+  std::vector<int> head_nodes;                  ///< rigid head, shaft and disc
+  std::vector<std::vector<int>> tail_nodes;     ///< per tail, root first
+  double omega_h = 0.0, omega_t = 0.0;          ///< signed spin rates [rad/s]
+  double omega_motor = 0.0;                     ///< motor rate applied [rad/s]
+  double head_angle = 0.0, tail_angle = 0.0;    ///< cumulative spin angles [rad]
+  Vec3 head_position = Vec3::Zero();            ///< x_1
   Eigen::Quaterniond head_orientation = Eigen::Quaterniond::Identity();  ///< (m1^0, m2^0, t^0)
 
   /// True when every number in the snapshot is finite (nothing NaN is ever published).
