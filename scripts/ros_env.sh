@@ -7,6 +7,6 @@ set +u
 source "${1:-$FLAGELLA_ROOT/devel/setup.bash}"
 set -u
 ROS_TMP="$(mktemp -d)"
-ROS_PORT="$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')"
+ROS_PORT="$(/usr/bin/python3 "$FLAGELLA_ROOT/scripts/free_ros_port.py")"
 export ROS_HOME="$ROS_TMP/ros_home" ROS_HOSTNAME=localhost ROS_MASTER_URI="http://localhost:$ROS_PORT"
 mkdir -p "$ROS_HOME"

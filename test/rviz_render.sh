@@ -106,7 +106,7 @@ spawn() {
 }
 
 free_port() {
-  python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
+  python3 "$(dirname "${BASH_SOURCE[0]}")/../scripts/free_ros_port.py"
 }
 
 # wait_for TIMEOUT_S DESCRIPTION CMD... : polls CMD every 0.25 s
