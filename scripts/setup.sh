@@ -19,8 +19,15 @@ PACKAGES=(
   python3-rosgraph-msgs tf2-tools
   liblcm-dev liblcm-bin libglib2.0-dev pkg-config
   # headless rviz for the rendering test
-  rviz xvfb xauth libgl1-mesa-dri imagemagick
+  rviz xvfb xauth x11-utils libgl1-mesa-dri imagemagick
 )
+
+# roslaunch resolves the name "localhost" itself: a machine without it (a bare chroot or
+# container without /etc/hosts) cannot run any ROS session. Add the standard entry if missing.
+if ! getent hosts localhost > /dev/null; then
+  echo "setup: 'localhost' does not resolve; adding '127.0.0.1 localhost' to /etc/hosts"
+  echo "127.0.0.1 localhost" >> /etc/hosts
+fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do
