@@ -6,7 +6,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$ROOT/scripts/setup.sh"
 bash "$ROOT/scripts/build.sh"
-source "$ROOT/scripts/ros_env.sh"
+source "$ROOT/scripts/ros_env.sh" "$ROOT/devel/setup.bash"
 trap 'rm -rf "$ROS_TMP"' EXIT
 echo "run_session: master on $ROS_MASTER_URI, logs in $ROS_HOME (removed at exit)"
 roslaunch -p "$ROS_PORT" "$ROOT/launch/sim.launch" "$@"
