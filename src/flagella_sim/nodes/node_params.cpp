@@ -24,9 +24,7 @@ double rangedParam(const ros::NodeHandle& nh, const std::string& name, double fa
     throw flagella::ConfigError("parameter ~" + name + " must be a number in [" +
                                 std::to_string(min) + ", " + std::to_string(max) + "] " + unit);
   }
-  if (!(value >= min && value <= max))
-    throw flagella::ConfigError(
-        flagella::rangeMessage("parameter ~" + name, value, min, max, unit));
+  flagella::requireInRange("parameter ~" + name, value, min, max, unit);
   return value;
 }
 

@@ -43,7 +43,6 @@ SimNodeOptions nodeOptionsFromParams(const ros::NodeHandle& nh, const ros::NodeH
                                    kMaxRealTimeFactor, "(0: as fast as possible)");
   pnh.param("publish_clock", o.publish_clock, o.publish_clock);
   o.state_rate = rangedParam(pnh, "state_rate", o.state_rate, 1e-3, kMaxRate, "Hz");
-  o.imu_rate = rangedParam(pnh, "imu_rate", o.imu_rate, 1e-3, kMaxRate, "Hz");
   o.marker_rate = rangedParam(pnh, "marker_rate", o.marker_rate, 1e-3, kMaxRate, "Hz");
   o.path_rate = rangedParam(pnh, "path_rate", o.path_rate, 1e-3, kMaxRate, "Hz");
   o.diagnostics_rate =
@@ -66,7 +65,7 @@ void sleepWall(double seconds) { ros::WallDuration(seconds).sleep(); }
 SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
     : options_(nodeOptionsFromParams(nh, pnh)),
       state_schedule_(options_.state_rate),
-      imu_schedule_(options_.imu_rate),
+      imu_schedule_(0.0),  // set below from the session options, which hold the IMU rate
       marker_schedule_(options_.marker_rate),
       path_schedule_(options_.path_rate),
       diagnostics_schedule_(options_.diagnostics_rate) {
@@ -74,9 +73,8 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
   pnh.param<std::string>("overrides", overrides, "");
   const flagella::SimulationConfig config =
       flagella::loadSimulationConfig(options_.config_path, splitOverrides(overrides));
-  flagella::SessionOptions session_options = sessionOptionsFromParams(pnh);
-  session_options.imu.rate = options_.imu_rate;
-  session_ = std::make_unique<flagella::SimSession>(config, session_options);
+  session_ = std::make_unique<flagella::SimSession>(config, sessionOptionsFromParams(pnh));
+  imu_schedule_ = flagella::RateSchedule(session_->options().imu.rate);
   status_name_ = options_.tf_prefix + ": flagella_sim";
 
   if (options_.publish_clock)

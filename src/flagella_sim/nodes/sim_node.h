@@ -26,8 +26,8 @@ struct SimNodeOptions {
   std::string tf_prefix;          ///< frames <tf_prefix>/head, <tf_prefix>/tail<k>
   double real_time_factor = 1.0;  ///< 0: as fast as possible
   bool publish_clock = true;      ///< false: follow /clock published by another node
-  double state_rate = 20.0, imu_rate = 100.0, marker_rate = 10.0, path_rate = 5.0;
-  double diagnostics_rate = 1.0;  ///< [Hz of simulated time]
+  double state_rate = 20.0, marker_rate = 10.0, path_rate = 5.0;  ///< IMU: in SessionOptions
+  double diagnostics_rate = 1.0;                                  ///< [Hz of simulated time]
   int path_max_poses = 10000;
   double duration = 0.0;              ///< stop after this much simulated time; 0: run until killed
   bool wait_for_subscribers = false;  ///< hold t = 0 until every output topic has a subscriber

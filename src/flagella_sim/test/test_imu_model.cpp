@@ -12,6 +12,7 @@
 
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/runtime/imu_model.h"
+#include "support/temp_dir.h"
 
 namespace flagella {
 namespace {
@@ -285,12 +286,8 @@ TEST(HeadMotionTracker, NoRotationGivesZeroRate) {
 
 void expectConfigError(const ImuOptions& o, const std::string& field) {
   SCOPED_TRACE(field);
-  try {
-    o.validate();
-    ADD_FAILURE() << "validate() accepted a bad " << field;
-  } catch (const ConfigError& e) {
-    EXPECT_TRUE(contains(e.what(), field)) << e.what();
-  }
+  const std::string message = testing::errorMessageOf<ConfigError>([&] { o.validate(); });
+  EXPECT_TRUE(contains(message, field)) << message;
   EXPECT_THROW(ImuModel(o, kGravity), ConfigError);
 }
 

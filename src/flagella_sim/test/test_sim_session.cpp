@@ -15,6 +15,7 @@
 #include "flagella_sim/runtime/rate_schedule.h"
 #include "flagella_sim/runtime/sim_session.h"
 #include "flagella_sim/simulation/simulation_config.h"
+#include "support/temp_dir.h"
 
 namespace flagella {
 namespace {
@@ -401,12 +402,8 @@ TEST(SimSession, HaltsWhenTheStoppedMotorRetryFailsToo) {
 
 void expectConfigError(const SessionOptions& o, const std::string& field) {
   SCOPED_TRACE(field);
-  try {
-    o.validate();
-    ADD_FAILURE() << "validate() accepted a bad " << field;
-  } catch (const ConfigError& e) {
-    EXPECT_TRUE(contains(e.what(), field)) << e.what();
-  }
+  const std::string message = testing::errorMessageOf<ConfigError>([&] { o.validate(); });
+  EXPECT_TRUE(contains(message, field)) << message;
 }
 
 TEST(SessionOptions, RejectsUnusableValuesNamingTheField) {

@@ -14,10 +14,16 @@ std::string rangeMessage(const std::string& field, double value, double min, dou
   return out.str();
 }
 
+void requireInRange(const std::string& field, double value, double min, double max,
+                    const std::string& unit) {
+  if (!(value >= min && value <= max))
+    throw ConfigError(rangeMessage(field, value, min, max, unit));
+}
+
 int ParameterSet::declare(const std::string& name, double value, double min, double max,
                           const std::string& unit, const std::string& description) {
   if (has(name)) throw std::logic_error("parameter '" + name + "' declared twice");
-  if (!(value >= min && value <= max)) throw ConfigError(rangeMessage(name, value, min, max, unit));
+  requireInRange(name, value, min, max, unit);
   specs_.push_back({name, value, min, max, unit, description});
   return static_cast<int>(specs_.size()) - 1;
 }

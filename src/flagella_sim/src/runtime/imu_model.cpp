@@ -11,11 +11,6 @@ constexpr double kMaxImuRate = 1e4;   // [Hz]
 constexpr double kMaxNoiseStd = 1e3;  // any unit; beyond this the sensor is meaningless
 constexpr double kMaxBias = 1e3;
 
-void requireInRange(const std::string& field, double value, double min, double max,
-                    const std::string& unit) {
-  if (!(value >= min && value <= max))
-    throw ConfigError(rangeMessage(field, value, min, max, unit));
-}
 }  // namespace
 
 void ImuOptions::validate() const {

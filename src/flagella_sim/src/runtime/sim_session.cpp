@@ -31,11 +31,6 @@ CommandGateOptions sliderGateOptions(const SessionOptions& o) {
   return g;  // no failsafe: the mass stays where it was put
 }
 
-void requireInRange(const std::string& field, double value, double min, double max,
-                    const std::string& unit) {
-  if (!(value >= min && value <= max))
-    throw ConfigError(rangeMessage(field, value, min, max, unit));
-}
 }  // namespace
 
 void SessionOptions::validate() const {

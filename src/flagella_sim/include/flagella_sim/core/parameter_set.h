@@ -46,4 +46,8 @@ class ParameterSet {
 std::string rangeMessage(const std::string& field, double value, double min, double max,
                          const std::string& unit = "");
 
+/// Throws ConfigError with rangeMessage unless min <= value <= max (NaN is never in range).
+void requireInRange(const std::string& field, double value, double min, double max,
+                    const std::string& unit = "");
+
 }  // namespace flagella
