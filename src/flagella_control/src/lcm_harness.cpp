@@ -13,7 +13,8 @@ SimLcmShell::SimLcmShell(lcm::LCM& lcm, flagella::SimSession& session,
       options_(options),
       channels_(LcmChannels::withPrefix(options.channel_prefix)),
       state_schedule_(options.state_rate),
-      imu_schedule_(session.options().imu.rate) {
+      imu_schedule_(session.options().imu.rate),
+      camera_schedule_(session.options().camera.rate) {
   lcm_.subscribe(channels_.motor_command, &SimLcmShell::onMotorCommand, this);
   lcm_.subscribe(channels_.slider_command, &SimLcmShell::onSliderCommand, this);
 }
@@ -41,6 +42,18 @@ void SimLcmShell::publishDue(HarnessReport& report, bool force) {
       ++report.published[channels_.rod_state];
     }
   }
+  // The camera fix before the IMU sample of the same instant, so the controller step on that
+  // sample already has it. Rate 0: off; none inside the dropout window.
+  if (session_.options().camera.enabled() && (camera_schedule_.due(t) || force) &&
+      session_.cameraAvailable()) {
+    const flagella::CameraFix fix = session_.measureCamera();
+    if (fix.position.allFinite()) {
+      const flagella_lcm::point_stamped_t msg =
+          flagella::toCameraFixMessage(fix, options_.world_frame);
+      lcm_.publish(channels_.camera_fix, &msg);
+      ++report.published[channels_.camera_fix];
+    }
+  }
   if (imu_schedule_.due(t) || force) {
     const flagella_lcm::imu_t msg =
         flagella::toImuMessage(session_.measureImu(), options_.imu_frame);
@@ -57,6 +70,15 @@ ControllerLcmShell::ControllerLcmShell(lcm::LCM& lcm, ControllerCore& controller
       options_(options),
       channels_(LcmChannels::withPrefix(options.channel_prefix)) {
   lcm_.subscribe(channels_.imu, &ControllerLcmShell::onImu, this);
+  lcm_.subscribe(channels_.camera_fix, &ControllerLcmShell::onCameraFix, this);
+}
+
+void ControllerLcmShell::onCameraFix(const lcm::ReceiveBuffer*, const std::string&,
+                                     const flagella_lcm::point_stamped_t* msg) {
+  ++camera_received_;
+  fix_pending_ = true;
+  fix_position_[0] = msg->point.x;
+  fix_position_[1] = msg->point.y;
 }
 
 void ControllerLcmShell::onImu(const lcm::ReceiveBuffer*, const std::string&,
@@ -71,7 +93,15 @@ void ControllerLcmShell::onImu(const lcm::ReceiveBuffer*, const std::string&,
   inputs_.angular_velocity[0] = msg->angular_velocity.x;
   inputs_.angular_velocity[1] = msg->angular_velocity.y;
   inputs_.angular_velocity[2] = msg->angular_velocity.z;
+  // The latest camera fix, on this step only.
+  inputs_.position_valid = fix_pending_;
+  if (fix_pending_) {
+    inputs_.position[0] = fix_position_[0];
+    inputs_.position[1] = fix_position_[1];
+    fix_pending_ = false;
+  }
   last_ = controller_.step(inputs_);
+  inputs_.position_valid = false;
   flagella_lcm::motor_command_t command;
   command.header = flagella::lcmHeader(inputs_.time, "");
   command.omega = last_.motor_command;
@@ -108,7 +138,8 @@ HarnessReport LcmHarness::run(double duration, const std::function<void()>& afte
   const double end = session_.time() + duration;
   sim_shell_.publishDue(report, true);
   deliverAll();
-  while (session_.time() < end - 0.5 * session_.dt()) {
+  stop_requested_ = false;
+  while (session_.time() < end - 0.5 * session_.dt() && !stop_requested_) {
     if (!session_.step()) {
       report.halted = true;
       break;
@@ -125,6 +156,8 @@ HarnessReport LcmHarness::run(double duration, const std::function<void()>& afte
   report.received[channels.slider_command] = sim_shell_.slider_received_;
   report.received[channels.imu] = controller_shell_.imuReceived();
   report.published[channels.motor_command] = controller_shell_.commandsPublished();
+  report.received[channels.camera_fix] = controller_shell_.cameraReceived();
+  report.published.emplace(channels.camera_fix, 0);  // listed even when the camera is off
   return report;
 }
 

@@ -1,12 +1,16 @@
 // The headless harness: the core simulator and a controller core exchange every message over
 // LCM (memq://, in-process, no ROS master), commands arrive on the step after they are computed,
-// bad commands are rejected by the simulator's gate and the failsafe stops the motor, and the
-// physics is the same as driving the motor schedule directly in the core.
+// bad commands are rejected by the simulator's gate and the failsafe stops the motor, the
+// physics is the same as driving the motor schedule directly in the core, and camera fixes arrive
+// at their rate (none in the dropout window) and reach the controller once each.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "flagella_control/lcm_harness.h"
 #include "flagella_sim/simulation/simulation.h"
@@ -121,6 +125,108 @@ TEST(LcmHarness, BadCommandsAreRejectedAndTheFailsafeStopsTheMotor) {
   EXPECT_EQ(session.health().motor_applied, 0.0) << "failsafe after the timeout";
   EXPECT_TRUE(session.health().failsafe_active);
   EXPECT_TRUE(session.snapshot().allFinite());
+}
+
+/// Records the steps that carried a camera fix; commands a constant rate.
+class FixRecordingController : public ControllerCore {
+ public:
+  struct Fix {
+    double time;
+    double x, y;
+  };
+  explicit FixRecordingController(std::size_t capacity) { fixes_.reserve(capacity); }
+  ControllerOutputs step(const ControllerInputs& in) override {
+    ++steps_;
+    if (in.position_valid && fixes_.size() < fixes_.capacity())  // never allocates in step()
+      fixes_.push_back({in.time, in.position[0], in.position[1]});
+    ControllerOutputs out;
+    out.motor_command = kOmega;
+    out.mode = ControllerMode::Running;
+    return out;
+  }
+  void reset() override {}
+  const char* name() const override { return "fix_recorder"; }
+  const std::vector<Fix>& fixes() const { return fixes_; }
+  long steps() const { return steps_; }
+
+ private:
+  std::vector<Fix> fixes_;
+  long steps_ = 0;
+};
+
+TEST(LcmHarness, CameraFixesArriveAtTheirRateAndReachTheControllerOnce) {
+  constexpr double kCameraRate = 2.0;                       // [Hz]
+  constexpr double kDropoutStart = 2.0, kDropoutEnd = 3.0;  // [s]
+  constexpr double kRun = 5.0;                              // [s]
+  // Fixes due every 0.5 s from t = 0; the two due inside [2, 3) are withheld.
+  const std::vector<double> expected_times = {0.0, 0.5, 1.0, 1.5, 3.0, 3.5, 4.0, 4.5, 5.0};
+  // Nanosecond stamps of summed steps.
+  constexpr double kStampTol = 1e-8;
+  // The same head position through a quaternion and through its matrix: round-off only.
+  constexpr double kPositionTol = 1e-12;
+
+  flagella::SessionOptions options = sessionOptions();
+  options.camera.rate = kCameraRate;
+  options.camera.dropout_start = kDropoutStart;
+  options.camera.dropout_end = kDropoutEnd;
+  flagella::SimSession session(config(), options);
+  FixRecordingController controller(100);
+  LcmHarness harness(session, controller, harnessOptions());
+  // The truth: the snapshot's head centre at every step.
+  std::vector<std::pair<double, flagella::Vec3>> truth = {
+      {session.time(), session.snapshot().head_position}};
+  const HarnessReport report = harness.run(
+      kRun, [&] { truth.emplace_back(session.time(), session.snapshot().head_position); });
+
+  const LcmChannels ch = LcmChannels::withPrefix("FLAGELLA_");
+  const long n = static_cast<long>(expected_times.size());
+  EXPECT_EQ(report.published.at(ch.camera_fix), n);
+  EXPECT_EQ(report.received.at(ch.camera_fix), n);
+  // Every fix reached exactly one controller step, the one on the IMU sample of its instant.
+  ASSERT_EQ(static_cast<long>(controller.fixes().size()), n);
+  EXPECT_EQ(controller.steps(), report.received.at(ch.imu));
+  for (long i = 0; i < n; ++i) {
+    const FixRecordingController::Fix& fix = controller.fixes()[i];
+    EXPECT_NEAR(fix.time, expected_times[i], kStampTol) << "fix " << i;
+    const auto at = std::min_element(truth.begin(), truth.end(), [&](const auto& a, const auto& b) {
+      return std::abs(a.first - fix.time) < std::abs(b.first - fix.time);
+    });
+    ASSERT_NEAR(at->first, fix.time, kStampTol) << "fix " << i;
+    EXPECT_NEAR(fix.x, at->second.x(), kPositionTol) << "fix " << i;
+    EXPECT_NEAR(fix.y, at->second.y(), kPositionTol) << "fix " << i;
+  }
+  // The robot moved, so equal positions mean the fixes follow the head.
+  EXPECT_GT(std::hypot(controller.fixes().back().x - controller.fixes().front().x,
+                       controller.fixes().back().y - controller.fixes().front().y),
+            1e-4);
+}
+
+TEST(LcmHarness, CameraOffPublishesNoFixes) {
+  flagella::SessionOptions options = sessionOptions();
+  options.camera.rate = 0.0;
+  flagella::SimSession session(config(), options);
+  FixRecordingController controller(10);
+  LcmHarness harness(session, controller, harnessOptions());
+  const HarnessReport report = harness.run(1.0);
+  const LcmChannels ch = LcmChannels::withPrefix("FLAGELLA_");
+  EXPECT_EQ(report.published.at(ch.camera_fix), 0);
+  EXPECT_EQ(report.received.at(ch.camera_fix), 0);
+  EXPECT_TRUE(controller.fixes().empty());
+  EXPECT_GT(controller.steps(), 0);
+}
+
+TEST(LcmHarness, RequestStopEndsTheRunAfterTheCurrentStep) {
+  constexpr double kStopAt = 0.5;  // [s]
+  flagella::SimSession session(config(), sessionOptions());
+  PeriodicSwitchController controller(kOmega, kHalfPeriod, kHalfPeriod);
+  LcmHarness harness(session, controller, harnessOptions());
+  const HarnessReport report = harness.run(kDuration, [&] {
+    if (session.time() >= kStopAt - 1e-9) harness.requestStop();
+  });
+  EXPECT_NEAR(report.sim_time, kStopAt, 1e-9);
+  EXPECT_EQ(report.steps, std::lround(kStopAt / session.dt()));
+  // The next run starts afresh.
+  EXPECT_NEAR(harness.run(kStopAt).sim_time, 2.0 * kStopAt, 1e-9);
 }
 
 TEST(LcmHarness, AnUnknownProviderIsAClearError) {

@@ -105,6 +105,13 @@ sensor_msgs::Imu anyImu() {
   return m;
 }
 
+geometry_msgs::PointStamped anyPointStamped() {
+  geometry_msgs::PointStamped m;
+  m.header = anyHeader();
+  m.point = anyPoint();
+  return m;
+}
+
 template <typename M>
 std::vector<uint8_t> rosBytes(const M& message) {
   std::vector<uint8_t> buffer(ros::serialization::serializationLength(message));
@@ -149,6 +156,9 @@ TEST(LcmRoundTrip, ControllerStatus) {
   expectRoundTrip<flagella_lcm::controller_status_t>(anyControllerStatus());
 }
 TEST(LcmRoundTrip, Imu) { expectRoundTrip<flagella_lcm::imu_t>(anyImu()); }
+TEST(LcmRoundTrip, PointStamped) {
+  expectRoundTrip<flagella_lcm::point_stamped_t>(anyPointStamped());
+}
 
 TEST(LcmRoundTrip, EmptyArraysSurvive) {
   RodState empty;
@@ -164,17 +174,24 @@ std::string readFile(const std::string& path) {
   return buffer.str();
 }
 
-/// Field names of a .msg file: "type name" lines, skipping comments and constants (NAME=value).
-std::vector<std::string> msgFields(const std::string& path) {
+/// Field names of a message definition: "type name" lines, skipping comments and constants
+/// (NAME=value), up to the first "===" line (where full definitions list the nested types).
+std::vector<std::string> definitionFields(const std::string& definition) {
   std::vector<std::string> names;
-  std::istringstream lines(readFile(path));
+  std::istringstream lines(definition);
   const std::regex field(R"(^\s*[A-Za-z0-9_/]+(\[\d*\])?\s+([A-Za-z0-9_]+)\s*(#.*)?$)");
   std::string line;
   std::smatch match;
   while (std::getline(lines, line)) {
+    if (line.rfind("===", 0) == 0) break;
     if (std::regex_match(line, match, field)) names.push_back(match[2]);
   }
   return names;
+}
+
+/// Field names of a .msg file.
+std::vector<std::string> msgFields(const std::string& path) {
+  return definitionFields(readFile(path));
 }
 
 /// Field names of a .lcm struct, skipping const declarations and the num_* array lengths.
@@ -224,6 +241,12 @@ TEST(LcmSchema, TwinsHaveTheSameFieldsInTheSameOrder) {
                                                "linear_acceleration",
                                                "linear_acceleration_covariance"};
   EXPECT_EQ(imu_fields, lcmFields(root + "/lcm/imu_t.lcm"));
+  // geometry_msgs/PointStamped (the camera fix) likewise, read from the generated header's full
+  // definition text.
+  const std::vector<std::string> point_stamped_fields =
+      definitionFields(ros::message_traits::Definition<geometry_msgs::PointStamped>::value());
+  EXPECT_EQ(point_stamped_fields, (std::vector<std::string>{"header", "point"}));
+  EXPECT_EQ(point_stamped_fields, lcmFields(root + "/lcm/point_stamped_t.lcm"));
 }
 
 TEST(LcmSchema, FieldParserSeesEveryRodStateField) {

@@ -36,8 +36,9 @@ void diagonal(double variance, double (&covariance)[9]) {
 }  // namespace
 
 LcmChannels LcmChannels::withPrefix(const std::string& prefix) {
-  return {prefix + "ROD_STATE", prefix + "IMU", prefix + "MOTOR_COMMAND", prefix + "SLIDER_COMMAND",
-          prefix + "CONTROLLER_STATUS"};
+  return {prefix + "ROD_STATE",         prefix + "IMU",
+          prefix + "MOTOR_COMMAND",     prefix + "SLIDER_COMMAND",
+          prefix + "CONTROLLER_STATUS", prefix + "CAMERA_FIX"};
 }
 
 flagella_lcm::header_t lcmHeader(double time, const std::string& frame_id, int seq) {
@@ -89,6 +90,14 @@ flagella_lcm::imu_t toImuMessage(const ImuSample& sample, const std::string& imu
   diagonal(sample.angular_velocity_variance, m.angular_velocity_covariance);
   m.linear_acceleration = vector3(sample.linear_acceleration);
   diagonal(sample.linear_acceleration_variance, m.linear_acceleration_covariance);
+  return m;
+}
+
+flagella_lcm::point_stamped_t toCameraFixMessage(const CameraFix& fix,
+                                                 const std::string& world_frame) {
+  flagella_lcm::point_stamped_t m;
+  m.header = lcmHeader(fix.time, world_frame);
+  m.point = point(Vec3(fix.position.x(), fix.position.y(), 0.0));
   return m;
 }
 

@@ -1,11 +1,12 @@
-// flagella_lcm_bridge: mirrors one robot's rod state and IMU from ROS onto LCM, and LCM motor,
-// slider and controller-status messages onto ROS, with the converters of flagella_msgs.
+// flagella_lcm_bridge: mirrors one robot's rod state, IMU and camera fix from ROS onto LCM, and
+// LCM motor, slider and controller-status messages onto ROS, with the converters of flagella_msgs.
 // Default provider: udpm with ttl=0 (never leaves the host). Tests use file:// or memq://.
 #include <flagella_msgs/ControllerStatus.h>
 #include <flagella_msgs/MotorCommand.h>
 #include <flagella_msgs/RodState.h>
 #include <flagella_msgs/SliderCommand.h>
 #include <flagella_msgs/lcm_conversions.h>
+#include <geometry_msgs/PointStamped.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 
@@ -43,6 +44,7 @@ class LcmBridge {
     status_pub_ = nh.advertise<flagella_msgs::ControllerStatus>("controller_status", kQueue);
     state_sub_ = nh.subscribe("rod_state", kQueue, &LcmBridge::onRodState, this);
     imu_sub_ = nh.subscribe("imu", kQueue, &LcmBridge::onImu, this);
+    camera_sub_ = nh.subscribe("camera_fix", kQueue, &LcmBridge::onCameraFix, this);
     ROS_INFO_STREAM("flagella_lcm_bridge: ROS " << nh.getNamespace() << " <-> LCM " << prefix
                                                 << "* (publish " << publish_url << ", subscribe "
                                                 << subscribe_url << ")");
@@ -69,6 +71,11 @@ class LcmBridge {
     out_->publish(channels_.imu, &out);
     ++to_lcm_;
   }
+  void onCameraFix(const geometry_msgs::PointStamped& msg) {
+    const flagella_lcm::point_stamped_t out = flagella_msgs::toLcm(msg);
+    out_->publish(channels_.camera_fix, &out);
+    ++to_lcm_;
+  }
   void onMotor(const lcm::ReceiveBuffer*, const std::string&,
                const flagella_lcm::motor_command_t* msg) {
     motor_pub_.publish(flagella_msgs::toRos(*msg));  // the simulator validates the value
@@ -88,7 +95,7 @@ class LcmBridge {
   flagella::LcmChannels channels_;
   std::unique_ptr<lcm::LCM> out_, in_;
   ros::Publisher motor_pub_, slider_pub_, status_pub_;
-  ros::Subscriber state_sub_, imu_sub_;
+  ros::Subscriber state_sub_, imu_sub_, camera_sub_;
   long to_lcm_ = 0, to_ros_ = 0;
 };
 

@@ -14,6 +14,8 @@ constexpr double kMaxTimeout = 1e6;  // [s]
 constexpr double kMaxNoise = 1e3;
 constexpr double kMaxImuRate = 1e4;       // [Hz]
 constexpr double kMaxSliderTravel = 1.0;  // [m]
+constexpr double kMaxCameraRate = 1e3;    // [Hz]
+constexpr double kMaxTime = 1e9;          // [s]
 }  // namespace
 
 double rangedParam(const ros::NodeHandle& nh, const std::string& name, double fallback, double min,
@@ -71,6 +73,21 @@ flagella::SessionOptions sessionOptionsFromParams(const ros::NodeHandle& nh) {
   int seed = static_cast<int>(o.imu.seed);
   nh.param("imu_seed", seed, seed);
   o.imu.seed = static_cast<unsigned>(seed);
+  o.camera.rate = rangedParam(nh, "camera_rate", o.camera.rate, 0.0, kMaxCameraRate, "Hz (0: off)");
+  o.camera.noise_std = rangedParam(nh, "camera_noise", o.camera.noise_std, 0.0, kMaxNoise, "m");
+  o.camera.dropout_start = rangedParam(nh, "camera_dropout_start", o.camera.dropout_start,
+                                       -kMaxTime, kMaxTime, "s of simulated time (negative: none)");
+  if (o.camera.dropout_start >= 0.0)
+    o.camera.dropout_end =
+        rangedParam(nh, "camera_dropout_end", o.camera.dropout_end, o.camera.dropout_start,
+                    kMaxTime, "s of simulated time (at or after ~camera_dropout_start)");
+  else
+    o.camera.dropout_end =
+        rangedParam(nh, "camera_dropout_end", o.camera.dropout_end, -kMaxTime, 0.0,
+                    "s (no window while ~camera_dropout_start is negative)");
+  seed = static_cast<int>(o.camera.seed);
+  nh.param("camera_seed", seed, seed);
+  o.camera.seed = static_cast<unsigned>(seed);
   o.validate();
   return o;
 }

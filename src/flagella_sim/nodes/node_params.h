@@ -19,7 +19,7 @@ flagella::Vec3 vectorParam(const ros::NodeHandle& nh, const std::string& name,
                            const flagella::Vec3& fallback);
 /// Config overrides "a.b=v c.d=w" (whitespace separated) as a list.
 std::vector<std::string> splitOverrides(const std::string& text);
-/// The session options (motor range, failsafe, slider, IMU) from parameters.
+/// The session options (motor range, failsafe, slider, IMU, camera) from parameters.
 flagella::SessionOptions sessionOptionsFromParams(const ros::NodeHandle& nh);
 
 }  // namespace flagella_ros

@@ -3,6 +3,8 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <flagella_msgs/RodState.h>
 #include <flagella_msgs/lcm_conversions.h>
+#include <geometry_msgs/PointStamped.h>
+#include <ros/callback_queue.h>
 #include <sensor_msgs/Imu.h>
 #include <tf2_msgs/TFMessage.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -21,6 +23,8 @@ constexpr double kIdlePoll = 0.005;      // [s wall] poll period while paused or
 constexpr double kMaxPaceSleep = 0.002;  // [s wall] longest sleep while pacing
 constexpr double kDrainTime = 1.0;       // [s wall] let subscribers receive the last messages
 constexpr double kWallDiagnosticsPeriod = 1.0;  // [s wall] diagnostics while paused or halted
+constexpr double kLockstepPoll = 0.001;         // [s wall] longest wait for a callback in lockstep
+constexpr double kMaxLockstepTimeout = 1e6;     // [s wall]
 // Outgoing queue per subscriber: deep enough that a recorder keeps up with a session running
 // many times faster than real time (100 Hz IMU at 30x is 3000 messages per second).
 constexpr int kQueue = 5000;
@@ -52,6 +56,9 @@ SimNodeOptions nodeOptionsFromParams(const ros::NodeHandle& nh, const ros::NodeH
   o.duration = rangedParam(pnh, "duration", o.duration, 0.0, kMaxDuration, "s (0: forever)");
   pnh.param("wait_for_subscribers", o.wait_for_subscribers, o.wait_for_subscribers);
   o.wait_timeout = rangedParam(pnh, "wait_timeout", o.wait_timeout, 0.0, 1e6, "s");
+  pnh.param("lockstep", o.lockstep, o.lockstep);
+  o.lockstep_timeout = rangedParam(pnh, "lockstep_timeout", o.lockstep_timeout, 1e-3,
+                                   kMaxLockstepTimeout, "s of wall time");
   o.markers.tail_width =
       rangedParam(pnh, "marker_tail_width", o.markers.tail_width, 1e-5, 1.0, "m");
   o.markers.head_width =
@@ -68,13 +75,15 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
       imu_schedule_(0.0),  // set below from the session options, which hold the IMU rate
       marker_schedule_(options_.marker_rate),
       path_schedule_(options_.path_rate),
-      diagnostics_schedule_(options_.diagnostics_rate) {
+      diagnostics_schedule_(options_.diagnostics_rate),
+      camera_schedule_(0.0) {
   std::string overrides;
   pnh.param<std::string>("overrides", overrides, "");
   const flagella::SimulationConfig config =
       flagella::loadSimulationConfig(options_.config_path, splitOverrides(overrides));
   session_ = std::make_unique<flagella::SimSession>(config, sessionOptionsFromParams(pnh));
   imu_schedule_ = flagella::RateSchedule(session_->options().imu.rate);
+  camera_schedule_ = flagella::RateSchedule(session_->options().camera.rate);  // 0: never asked
   status_name_ = options_.tf_prefix + ": flagella_sim";
 
   if (options_.publish_clock)
@@ -83,6 +92,8 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
     clock_sub_ = nh.subscribe("/clock", kQueue, &SimNode::onClock, this);
   state_pub_ = nh.advertise<flagella_msgs::RodState>("rod_state", kQueue);
   imu_pub_ = nh.advertise<sensor_msgs::Imu>("imu", kQueue);
+  if (session_->options().camera.enabled())
+    camera_pub_ = nh.advertise<geometry_msgs::PointStamped>("camera_fix", kQueue);
   marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", kQueue);
   path_pub_ = nh.advertise<nav_msgs::Path>("head_path", kQueue);
   tf_pub_ = nh.advertise<tf2_msgs::TFMessage>("/tf", kQueue);
@@ -100,7 +111,8 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
                   << (options_.real_time_factor > 0.0
                           ? std::to_string(options_.real_time_factor) + "x real time"
                           : std::string("as fast as possible"))
-                  << (options_.publish_clock ? "" : ", following /clock"));
+                  << (options_.publish_clock ? "" : ", following /clock")
+                  << (options_.lockstep ? ", lockstep with motor_command" : ""));
 }
 
 template <typename M>
@@ -110,6 +122,10 @@ void SimNode::publish(ros::Publisher& pub, const M& msg) {
 }
 
 void SimNode::onMotorCommand(const flagella_msgs::MotorCommand& msg) {
+  // Any command answers a lockstep wait (a rejected value too: the gate and failsafe handle it).
+  if (!command_seen_ || msg.header.stamp > latest_command_stamp_)
+    latest_command_stamp_ = msg.header.stamp;
+  command_seen_ = true;
   if (session_->commandMotor(msg.omega) != flagella::CommandVerdict::Accepted)
     ROS_ERROR_STREAM("flagella_sim: rejected " << session_->health().last_rejection);
 }
@@ -125,7 +141,8 @@ bool SimNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& 
   time_offset_ += session_->time();
   session_->reset();
   path_.poses.clear();
-  for (auto* s : {&state_schedule_, &imu_schedule_, &marker_schedule_, &path_schedule_})
+  for (auto* s :
+       {&state_schedule_, &imu_schedule_, &marker_schedule_, &path_schedule_, &camera_schedule_})
     s->restart();
   pace_wall_start_ = ros::WallTime::now();
   pace_sim_start_ = session_->time();
@@ -139,7 +156,7 @@ bool SimNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& 
 
 bool SimNode::onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
   paused_ = req.data;
-  pace_wall_start_ = ros::WallTime::now();
+  pace_wall_start_ = await_wall_start_ = ros::WallTime::now();
   pace_sim_start_ = session_->time();
   res.success = true;
   res.message = paused_ ? "paused" : "running";
@@ -148,17 +165,28 @@ bool SimNode::onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Respon
 }
 
 bool SimNode::waitForSubscribers() {
-  if (!options_.wait_for_subscribers) return true;
+  if (!options_.wait_for_subscribers && !options_.lockstep) return true;
   const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(options_.wait_timeout);
-  ros::Publisher* outputs[] = {&state_pub_, &imu_pub_, &marker_pub_,
-                               &path_pub_,  &tf_pub_,  &diag_pub_};
+  ros::Publisher* outputs[] = {&state_pub_, &imu_pub_,  &marker_pub_, &path_pub_,
+                               &tf_pub_,    &diag_pub_, &camera_pub_};
   while (ros::ok()) {
-    bool all = true;
-    for (ros::Publisher* p : outputs) all = all && p->getNumSubscribers() > 0;
-    if (all) return true;
+    bool outputs_ready = true;
+    if (options_.wait_for_subscribers)
+      for (ros::Publisher* p : outputs)
+        outputs_ready = outputs_ready && (!*p || p->getNumSubscribers() > 0);
+    // Lockstep: the controller must hear the t = 0 IMU sample and be heard answering it.
+    const bool controller_ready = !options_.lockstep || (imu_pub_.getNumSubscribers() > 0 &&
+                                                         motor_sub_.getNumPublishers() > 0);
+    if (outputs_ready && controller_ready) return true;
     if (ros::WallTime::now() > give_up) {
-      ROS_WARN("flagella_sim: not every output topic has a subscriber after %.1f s; starting",
-               options_.wait_timeout);
+      if (!outputs_ready)
+        ROS_WARN("flagella_sim: not every output topic has a subscriber after %.1f s; starting",
+                 options_.wait_timeout);
+      if (!controller_ready)
+        ROS_WARN(
+            "flagella_sim: lockstep: no imu subscriber and motor_command publisher after "
+            "%.1f s; starting",
+            options_.wait_timeout);
       return true;
     }
     if (clock_pub_) {
@@ -174,8 +202,29 @@ bool SimNode::waitForSubscribers() {
   return false;
 }
 
+bool SimNode::lockstepReady() {
+  if (!awaiting_command_) return true;
+  if (command_seen_ && latest_command_stamp_ >= awaited_stamp_) {
+    awaiting_command_ = false;
+    return true;
+  }
+  if ((ros::WallTime::now() - await_wall_start_).toSec() > options_.lockstep_timeout) {
+    ++lockstep_timeouts_;
+    ROS_WARN(
+        "flagella_sim: lockstep: no motor_command stamped >= %.6f s within %.3f s of wall "
+        "time; stepping on (the command failsafe applies)",
+        awaited_stamp_.toSec(), options_.lockstep_timeout);
+    awaiting_command_ = false;
+    return true;
+  }
+  // Sleeps until a callback is queued (at most kLockstepPoll) and runs what is there.
+  ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(kLockstepPoll));
+  return false;
+}
+
 bool SimNode::readyToStep() {
   if (paused_ || session_->halted()) return false;
+  if (!lockstepReady()) return false;
   if (!options_.publish_clock) return clockTime() + 0.5 * session_->dt() <= followed_clock_;
   if (options_.real_time_factor <= 0.0) return true;
   const double due_wall = (session_->time() - pace_sim_start_) / options_.real_time_factor;
@@ -192,7 +241,8 @@ void SimNode::publishOutputs(bool force) {
   const bool marker_due = marker_schedule_.due(t) || force;
   const bool path_due = path_schedule_.due(t) || force;
   const bool imu_due = imu_schedule_.due(t) || force;
-  if (!(state_due || marker_due || path_due || imu_due)) return;
+  const bool camera_due = camera_pub_ && (camera_schedule_.due(t) || force);
+  if (!(state_due || marker_due || path_due || imu_due || camera_due)) return;
   flagella::RodSnapshot snapshot;
   if (state_due || marker_due || path_due) {
     snapshot = session_->snapshot();
@@ -220,6 +270,17 @@ void SimNode::publishOutputs(bool force) {
     path_.header.stamp = now;
     publish(path_pub_, path_);
   }
+  // The camera fix before the IMU sample of the same instant: a controller stepping on IMU
+  // samples can use the fix at once.
+  if (camera_due && session_->cameraAvailable()) {
+    const flagella::CameraFix fix = session_->measureCamera();
+    if (fix.position.allFinite()) {
+      geometry_msgs::PointStamped msg =
+          flagella_msgs::toRos(flagella::toCameraFixMessage(fix, options_.world_frame));
+      msg.header.stamp = now;
+      publish(camera_pub_, msg);
+    }
+  }
   if (imu_due) {
     const flagella::ImuSample imu = session_->measureImu();
     if (imu.orientation.coeffs().allFinite() && imu.angular_velocity.allFinite() &&
@@ -228,6 +289,11 @@ void SimNode::publishOutputs(bool force) {
           flagella_msgs::toRos(flagella::toImuMessage(imu, options_.tf_prefix + "/head"));
       msg.header.stamp = now;
       publish(imu_pub_, msg);
+      if (options_.lockstep) {
+        awaiting_command_ = true;
+        awaited_stamp_ = now;
+        await_wall_start_ = ros::WallTime::now();
+      }
     }
   }
 }
@@ -242,6 +308,12 @@ void SimNode::publishDiagnostics() {
     diagnostic_msgs::KeyValue kv;
     kv.key = "published " + topic;
     kv.value = std::to_string(count);
+    array.status.back().values.push_back(kv);
+  }
+  if (options_.lockstep) {
+    diagnostic_msgs::KeyValue kv;
+    kv.key = "lockstep_timeouts";
+    kv.value = std::to_string(lockstep_timeouts_);
     array.status.back().values.push_back(kv);
   }
   publish(diag_pub_, array);
@@ -274,7 +346,7 @@ int SimNode::run() {
     ros::spinOnce();
     if (options_.duration > 0.0 && clockTime() >= options_.duration - 0.5 * session_->dt()) break;
     if (!readyToStep()) {
-      if ((paused_ || session_->halted() || !options_.publish_clock) &&
+      if ((paused_ || session_->halted() || !options_.publish_clock || awaiting_command_) &&
           (ros::WallTime::now() - last_wall_diagnostics).toSec() > kWallDiagnosticsPeriod) {
         publishDiagnostics();
         last_wall_diagnostics = ros::WallTime::now();

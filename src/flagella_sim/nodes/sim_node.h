@@ -32,6 +32,10 @@ struct SimNodeOptions {
   double duration = 0.0;              ///< stop after this much simulated time; 0: run until killed
   bool wait_for_subscribers = false;  ///< hold t = 0 until every output topic has a subscriber
   double wait_timeout = 30.0;         ///< [s wall] then start anyway, with a warning
+  /// Software in the loop: after an IMU sample stamped t, hold the next step until a
+  /// motor_command stamped >= t has arrived (or lockstep_timeout wall seconds have passed).
+  bool lockstep = false;
+  double lockstep_timeout = 5.0;  ///< [s wall]
   MarkerStyle markers;
 };
 
@@ -51,6 +55,7 @@ class SimNode {
 
   bool waitForSubscribers();
   bool readyToStep();
+  bool lockstepReady();
   void publishOutputs(bool force);
   void publishDiagnostics();
   void printSummary() const;
@@ -63,12 +68,13 @@ class SimNode {
   std::unique_ptr<flagella::SimSession> session_;
   std::string status_name_;
 
-  ros::Publisher clock_pub_, state_pub_, imu_pub_, marker_pub_, path_pub_, tf_pub_, diag_pub_;
+  ros::Publisher clock_pub_, state_pub_, imu_pub_, marker_pub_, path_pub_, tf_pub_, diag_pub_,
+      camera_pub_;
   ros::Subscriber motor_sub_, slider_sub_, clock_sub_;
   ros::ServiceServer reset_srv_, pause_srv_;
 
   flagella::RateSchedule state_schedule_, imu_schedule_, marker_schedule_, path_schedule_,
-      diagnostics_schedule_;
+      diagnostics_schedule_, camera_schedule_;
   nav_msgs::Path path_;
   std::map<std::string, long> published_;  ///< messages published per topic
   double time_offset_ = 0.0;  ///< simulated time before the last reset (the clock never jumps back)
@@ -78,6 +84,13 @@ class SimNode {
   ros::WallTime pace_wall_start_;
   double pace_sim_start_ = 0.0;
   ros::WallTime run_wall_start_;
+  // Lockstep: the IMU stamp the next step waits for, and the newest command stamp seen.
+  bool awaiting_command_ = false;
+  ros::Time awaited_stamp_;
+  ros::WallTime await_wall_start_;
+  bool command_seen_ = false;
+  ros::Time latest_command_stamp_;
+  long lockstep_timeouts_ = 0;
 };
 
 }  // namespace flagella_ros

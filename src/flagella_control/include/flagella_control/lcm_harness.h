@@ -1,12 +1,14 @@
 // Headless harness: the core simulator and a controller core talk over LCM only (no ROS
-// master). The simulator side publishes the rod state and the IMU and applies motor commands;
-// the controller side steps the controller on every IMU sample and publishes its commands.
+// master). The simulator side publishes the rod state, the IMU and the camera fixes and applies
+// motor commands; the controller side steps the controller on every IMU sample (with the latest
+// camera fix, once) and publishes its commands.
 // With the default memq:// provider everything stays inside the process.
 #pragma once
 
 #include <flagella_lcm/controller_status_t.hpp>
 #include <flagella_lcm/imu_t.hpp>
 #include <flagella_lcm/motor_command_t.hpp>
+#include <flagella_lcm/point_stamped_t.hpp>
 #include <flagella_lcm/rod_state_t.hpp>
 #include <flagella_lcm/slider_command_t.hpp>
 #include <functional>
@@ -58,21 +60,25 @@ class SimLcmShell {
   flagella::SimSession& session_;
   HarnessOptions options_;
   LcmChannels channels_;
-  flagella::RateSchedule state_schedule_, imu_schedule_;
+  flagella::RateSchedule state_schedule_, imu_schedule_, camera_schedule_;
   long motor_received_ = 0, slider_received_ = 0;
   friend class LcmHarness;
 };
 
-/// The controller's end: steps the core on every IMU sample, publishes the motor command.
+/// The controller's end: steps the core on every IMU sample, publishes the motor command. A
+/// camera fix is handed to the controller on the next step only (position_valid), then dropped.
 class ControllerLcmShell {
  public:
   ControllerLcmShell(lcm::LCM& lcm, ControllerCore& controller, const HarnessOptions& options);
   long imuReceived() const { return imu_received_; }
+  long cameraReceived() const { return camera_received_; }
   long commandsPublished() const { return commands_published_; }
   const ControllerOutputs& lastOutputs() const { return last_; }
 
  private:
   void onImu(const lcm::ReceiveBuffer*, const std::string&, const flagella_lcm::imu_t* msg);
+  void onCameraFix(const lcm::ReceiveBuffer*, const std::string&,
+                   const flagella_lcm::point_stamped_t* msg);
 
   lcm::LCM& lcm_;
   ControllerCore& controller_;
@@ -80,7 +86,9 @@ class ControllerLcmShell {
   LcmChannels channels_;
   ControllerInputs inputs_;
   ControllerOutputs last_;
-  long imu_received_ = 0, commands_published_ = 0;
+  bool fix_pending_ = false;
+  double fix_position_[2] = {0.0, 0.0};  ///< latest camera fix not yet given to the controller
+  long imu_received_ = 0, commands_published_ = 0, camera_received_ = 0;
 };
 
 class LcmHarness {
@@ -90,9 +98,12 @@ class LcmHarness {
   /// Steps the session for `duration` seconds of simulated time, delivering every message
   /// after each step. `after_step` (optional) sees the session after each step.
   HarnessReport run(double duration, const std::function<void()>& after_step = {});
+  /// Ends the current run() after the step in progress (call from `after_step`).
+  void requestStop() { stop_requested_ = true; }
 
  private:
   void deliverAll();
+  bool stop_requested_ = false;
 
   HarnessOptions options_;
   lcm::LCM lcm_;

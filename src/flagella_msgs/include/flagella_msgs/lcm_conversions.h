@@ -7,6 +7,7 @@
 #include <flagella_msgs/MotorCommand.h>
 #include <flagella_msgs/RodState.h>
 #include <flagella_msgs/SliderCommand.h>
+#include <geometry_msgs/PointStamped.h>
 #include <sensor_msgs/Imu.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <flagella_lcm/controller_status_t.hpp>
 #include <flagella_lcm/imu_t.hpp>
 #include <flagella_lcm/motor_command_t.hpp>
+#include <flagella_lcm/point_stamped_t.hpp>
 #include <flagella_lcm/rod_state_t.hpp>
 #include <flagella_lcm/slider_command_t.hpp>
 #include <vector>
@@ -207,6 +209,19 @@ inline ControllerStatus toRos(const flagella_lcm::controller_status_t& in) {
   out.heading_error = in.heading_error;
   out.motor_command = in.motor_command;
   out.message = in.message;
+  return out;
+}
+
+inline flagella_lcm::point_stamped_t toLcm(const geometry_msgs::PointStamped& in) {
+  flagella_lcm::point_stamped_t out;
+  out.header = toLcm(in.header);
+  out.point = toLcm(in.point);
+  return out;
+}
+inline geometry_msgs::PointStamped toRos(const flagella_lcm::point_stamped_t& in) {
+  geometry_msgs::PointStamped out;
+  out.header = toRos(in.header);
+  out.point = toRos(in.point);
   return out;
 }
 

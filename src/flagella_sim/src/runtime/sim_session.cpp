@@ -42,6 +42,7 @@ void SessionOptions::validate() const {
   requireInRange("slider_min", slider_min, -kMaxSliderTravel, kMaxSliderTravel, "m");
   requireInRange("slider_max", slider_max, slider_min, kMaxSliderTravel, "m");
   imu.validate();
+  camera.validate();
 }
 
 SimSession::SimSession(SimulationConfig config, SessionOptions options)
@@ -51,6 +52,7 @@ SimSession::SimSession(SimulationConfig config, SessionOptions options)
       motor_gate_(motorGateOptions(options_)),
       slider_gate_(sliderGateOptions(options_)),
       imu_(options_.imu, config_.medium.gravity),
+      camera_(options_.camera),
       output_from_sim_(outputFromSimulationFrame(config_.medium.up)) {
   start();
 }
@@ -115,6 +117,10 @@ ImuSample SimSession::measureImu() {
   ImuSample sample = imu_.measure(head_motion_.motion());
   sample.orientation = (output_from_sim_ * sample.orientation).normalized();
   return sample;
+}
+
+CameraFix SimSession::measureCamera() {
+  return camera_.measure(time(), output_from_sim_ * sim_->sample().head_position);
 }
 
 SessionHealth SimSession::health() const {

@@ -1,12 +1,14 @@
 // A simulation driven from outside, as the ROS node and the LCM harness drive it: motor and
 // slider commands pass through validating gates with a failsafe, solver failures are handled
-// by a fixed strategy and reported, and the state is read as snapshots and IMU samples.
+// by a fixed strategy and reported, and the state is read as snapshots, IMU samples and camera
+// fixes.
 #pragma once
 
 #include <memory>
 #include <string>
 
 #include "flagella_sim/actuation/motor_command.h"
+#include "flagella_sim/runtime/camera_model.h"
 #include "flagella_sim/runtime/command_gate.h"
 #include "flagella_sim/runtime/imu_model.h"
 #include "flagella_sim/runtime/rod_snapshot.h"
@@ -21,6 +23,7 @@ struct SessionOptions {
   std::string initial_motor = "config";
   double slider_min = -0.02, slider_max = 0.02;  ///< internal-mass travel [m]
   ImuOptions imu;
+  CameraOptions camera;
 
   /// Throws ConfigError naming the field and its allowed range.
   void validate() const;
@@ -69,6 +72,10 @@ class SimSession {
   RodSnapshot snapshot() const;
   /// One IMU measurement of the current head motion (advances the noise generator).
   ImuSample measureImu();
+  /// One camera fix of the head centre in the output frame (advances the noise generator).
+  CameraFix measureCamera();
+  /// False when the camera is off (rate 0) or inside its dropout window.
+  bool cameraAvailable() const { return camera_.available(time()); }
   SessionHealth health() const;
   const Simulation& simulation() const { return *sim_; }
   const SessionOptions& options() const { return options_; }
@@ -86,6 +93,7 @@ class SimSession {
   CommandGate motor_gate_;
   CommandGate slider_gate_;
   ImuModel imu_;
+  CameraModel camera_;
   HeadMotionTracker head_motion_;
   Eigen::Quaterniond output_from_sim_;
   double applied_motor_ = 0.0;

@@ -1,0 +1,18 @@
+#include <ros/ros.h>
+
+#include <exception>
+
+#include "path_follower_node.h"
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "flagella_path_follower");
+  ros::NodeHandle nh, pnh("~");
+  try {
+    flagella_control_ros::PathFollowerNode node(nh, pnh);
+    ros::spin();
+  } catch (const std::exception& e) {
+    ROS_FATAL("flagella_path_follower: %s", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,184 @@
+#include "path_follower_node.h"
+
+#include <flagella_msgs/ControllerStatus.h>
+#include <flagella_msgs/MotorCommand.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace flagella_control_ros {
+
+using flagella_control::ControllerMode;
+using flagella_control::ControllerOutputs;
+
+namespace {
+
+constexpr int kQueue = 1000;
+constexpr double kReferenceSpacing = 0.005;  // [m] between published reference poses
+
+template <typename T>
+T param(ros::NodeHandle& pnh, const std::string& name, T fallback) {
+  T value = fallback;
+  pnh.param(name, value, fallback);
+  return value;
+}
+
+std::uint8_t toStatusMode(ControllerMode mode) {
+  switch (mode) {
+    case ControllerMode::Running: return flagella_msgs::ControllerStatus::RUNNING;
+    case ControllerMode::Finished: return flagella_msgs::ControllerStatus::FINISHED;
+    case ControllerMode::Fault: return flagella_msgs::ControllerStatus::FAULT;
+    default: return flagella_msgs::ControllerStatus::IDLE;
+  }
+}
+
+}  // namespace
+
+PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
+  mode_ = param<std::string>(pnh, "mode", "closed_loop");
+  if (mode_ != "closed_loop" && mode_ != "open_loop")
+    throw std::invalid_argument("~mode must be 'closed_loop' or 'open_loop', got '" + mode_ + "'");
+  world_frame_ = param<std::string>(pnh, "world_frame", "world");
+  const std::string calibration_file = param<std::string>(pnh, "calibration", "");
+  if (calibration_file.empty()) throw std::invalid_argument("~calibration (a YAML file) is required");
+  calibration_ = flagella_control::loadCalibration(calibration_file);
+  gains_.lookahead = param(pnh, "lookahead", gains_.lookahead);
+  gains_.cross_track_integral = param(pnh, "cross_track_integral", gains_.cross_track_integral);
+  gains_.heading_gain = param(pnh, "heading_gain", gains_.heading_gain);
+  gains_.fix_gain = param(pnh, "fix_gain", gains_.fix_gain);
+  gains_.min_pulse = param(pnh, "min_pulse", gains_.min_pulse);
+  gains_.search_window = param(pnh, "search_window", gains_.search_window);
+  gains_.imu_timeout = param(pnh, "imu_timeout", gains_.imu_timeout);
+  gains_.fix_timeout = param(pnh, "fix_timeout", gains_.fix_timeout);
+  gains_.sensor_fault_timeout = param(pnh, "sensor_fault_timeout", gains_.sensor_fault_timeout);
+  gains_.finish_tolerance = param(pnh, "finish_tolerance", gains_.finish_tolerance);
+  gains_.validate();
+  const double status_rate = param(pnh, "status_rate", 5.0);
+  if (!(status_rate > 0.0 && status_rate <= 1000.0))
+    throw std::invalid_argument("~status_rate must be in (0, 1000] Hz, got " +
+                                std::to_string(status_rate));
+  status_period_ = 1.0 / status_rate;
+  exit_when_finished_ = param(pnh, "exit_when_finished", false);
+  linger_ = param(pnh, "linger", 1.0);
+
+  motor_pub_ = nh.advertise<flagella_msgs::MotorCommand>("motor_command", kQueue);
+  status_pub_ = nh.advertise<flagella_msgs::ControllerStatus>("controller_status", kQueue);
+  reference_pub_ = nh.advertise<nav_msgs::Path>("reference_path", 1, /*latch=*/true);
+  const std::string path_file = param<std::string>(pnh, "path", "");
+  if (!path_file.empty()) {
+    build(flagella_control::loadPathSpec(path_file));
+  } else {
+    path_sub_ = nh.subscribe("path", 1, &PathFollowerNode::onPath, this);
+    ROS_INFO("flagella_path_follower: no ~path file; waiting for a nav_msgs/Path on %s",
+             path_sub_.getTopic().c_str());
+  }
+  imu_sub_ = nh.subscribe("imu", kQueue, &PathFollowerNode::onImu, this);
+  fix_sub_ = nh.subscribe("camera_fix", kQueue, &PathFollowerNode::onCameraFix, this);
+}
+
+void PathFollowerNode::build(flagella_control::PathSpec spec) {
+  ROS_INFO("flagella_path_follower: %s, %s", mode_.c_str(), spec.description.c_str());
+  if (mode_ == "open_loop")
+    controller_ = std::make_unique<flagella_control::ScheduleController>(std::move(spec), calibration_);
+  else
+    controller_ = std::make_unique<flagella_control::PathFollowingController>(std::move(spec),
+                                                                              calibration_, gains_);
+  reference_published_ = false;
+}
+
+void PathFollowerNode::onPath(const nav_msgs::Path& msg) {
+  // A nav_msgs/Path is a polyline in the world frame (its poses' positions; z is ignored).
+  std::vector<flagella_control::Vec2> points;
+  for (const auto& pose : msg.poses) {
+    const flagella_control::Vec2 p(pose.pose.position.x, pose.pose.position.y);
+    if (points.empty() || (p - points.back()).norm() > 1e-9) points.push_back(p);
+  }
+  try {
+    flagella_control::PathSpec spec;
+    spec.path = flagella_control::Path::polyline(points, false);
+    spec.frame = flagella_control::PathFrame::World;
+    spec.description = "nav_msgs/Path of " + std::to_string(points.size()) + " points (world frame)";
+    build(std::move(spec));
+  } catch (const std::exception& e) {
+    ROS_ERROR("flagella_path_follower: path rejected: %s", e.what());
+  }
+}
+
+void PathFollowerNode::onCameraFix(const geometry_msgs::PointStamped& msg) {
+  if (!std::isfinite(msg.point.x) || !std::isfinite(msg.point.y)) return;
+  fix_pending_ = true;
+  inputs_.position[0] = msg.point.x;
+  inputs_.position[1] = msg.point.y;
+}
+
+void PathFollowerNode::onImu(const sensor_msgs::Imu& msg) {
+  if (!controller_) return;
+  inputs_.time = msg.header.stamp.toSec();
+  const auto& q = msg.orientation;
+  inputs_.imu_valid = std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z) &&
+                      std::isfinite(q.w) && msg.orientation_covariance[0] >= 0.0;
+  inputs_.orientation[0] = q.x;
+  inputs_.orientation[1] = q.y;
+  inputs_.orientation[2] = q.z;
+  inputs_.orientation[3] = q.w;
+  inputs_.angular_velocity[0] = msg.angular_velocity.x;
+  inputs_.angular_velocity[1] = msg.angular_velocity.y;
+  inputs_.angular_velocity[2] = msg.angular_velocity.z;
+  inputs_.position_valid = fix_pending_;  // the latest fix, on this step only
+  fix_pending_ = false;
+  const ControllerOutputs out = controller_->step(inputs_);
+  inputs_.position_valid = false;
+
+  flagella_msgs::MotorCommand command;
+  command.header.stamp = msg.header.stamp;  // lockstep: answers the IMU sample of this stamp
+  command.header.frame_id = msg.header.frame_id;
+  command.omega = out.motor_command;
+  motor_pub_.publish(command);
+
+  if (controller_->status().anchored && !reference_published_) publishReference(msg.header.stamp);
+  publishStatus(msg.header.stamp, out);
+  if (out.mode == ControllerMode::Finished && finished_at_ < 0.0) {
+    finished_at_ = inputs_.time;
+    ROS_INFO("flagella_path_follower: path complete at t = %.2f s", inputs_.time);
+  }
+  if (exit_when_finished_ && finished_at_ >= 0.0 && inputs_.time - finished_at_ >= linger_)
+    ros::shutdown();
+}
+
+void PathFollowerNode::publishStatus(const ros::Time& stamp, const ControllerOutputs& out) {
+  const double t = stamp.toSec();
+  if (out.mode == last_mode_ && t - last_status_time_ < status_period_ - 1e-9) return;
+  last_mode_ = out.mode;
+  last_status_time_ = t;
+  const flagella_control::PathStatus& s = controller_->status();
+  flagella_msgs::ControllerStatus status;
+  status.header.stamp = stamp;
+  status.header.frame_id = world_frame_;
+  status.controller = controller_->name();
+  status.mode = toStatusMode(out.mode);
+  status.segment_index = s.anchored ? s.element : -1;
+  status.progress = s.progress;
+  status.cross_track_error = s.cross_track;
+  status.heading_error = s.heading_error;
+  status.motor_command = out.motor_command;
+  status.message = s.message;
+  status_pub_.publish(status);
+}
+
+void PathFollowerNode::publishReference(const ros::Time& stamp) {
+  nav_msgs::Path path;
+  path.header.stamp = stamp;
+  path.header.frame_id = world_frame_;
+  for (const auto& p : controller_->worldPath().sample(kReferenceSpacing)) {
+    geometry_msgs::PoseStamped pose;
+    pose.header = path.header;
+    pose.pose.position.x = p.x();
+    pose.pose.position.y = p.y();
+    pose.pose.orientation.w = 1.0;
+    path.poses.push_back(pose);
+  }
+  reference_pub_.publish(path);
+  reference_published_ = true;
+}
+
+}  // namespace flagella_control_ros

@@ -1,0 +1,50 @@
+// The path-following controller node: a thin ROS shell around a controller core
+// (PathFollowingController or ScheduleController). It steps the core on every IMU sample with
+// the latest camera fix (used once), publishes the motor command stamped with the IMU stamp,
+// the controller status and the anchored reference path. Time is the IMU stamp only.
+#pragma once
+
+#include <geometry_msgs/PointStamped.h>
+#include <nav_msgs/Path.h>
+#include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
+
+#include <memory>
+#include <string>
+
+#include "flagella_control/path_controllers.h"
+
+namespace flagella_control_ros {
+
+class PathFollowerNode {
+ public:
+  /// Reads parameters; throws std::runtime_error / std::invalid_argument on bad input.
+  PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
+
+ private:
+  void onImu(const sensor_msgs::Imu& msg);
+  void onCameraFix(const geometry_msgs::PointStamped& msg);
+  void onPath(const nav_msgs::Path& msg);
+  void build(flagella_control::PathSpec spec);
+  void publishStatus(const ros::Time& stamp, const flagella_control::ControllerOutputs& out);
+  void publishReference(const ros::Time& stamp);
+
+  std::string mode_, world_frame_;
+  flagella_control::BinaryCalibration calibration_;
+  flagella_control::PathFollowingGains gains_;
+  std::unique_ptr<flagella_control::PathControllerBase> controller_;
+  flagella_control::ControllerInputs inputs_;
+  bool fix_pending_ = false;
+  bool reference_published_ = false;
+  bool exit_when_finished_ = false;
+  double status_period_ = 0.2;
+  double last_status_time_ = -1e9;
+  flagella_control::ControllerMode last_mode_ = flagella_control::ControllerMode::Idle;
+  double finished_at_ = -1.0;
+  double linger_ = 1.0;
+
+  ros::Publisher motor_pub_, status_pub_, reference_pub_;
+  ros::Subscriber imu_sub_, fix_sub_, path_sub_;
+};
+
+}  // namespace flagella_control_ros

@@ -1,0 +1,276 @@
+// Validation and YAML storage of the binary-input calibration (spec 7.3).
+#include "flagella_control/calibration.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace flagella_control {
+
+namespace {
+
+std::string numberText(double x) {
+  // Shortest decimal that reads back to exactly the same double: readable files, exact round
+  // trips.
+  if (!std::isfinite(x)) return std::isnan(x) ? ".nan" : (x > 0 ? ".inf" : "-.inf");
+  char buffer[64];
+  for (int precision = 6; precision <= 17; ++precision) {
+    std::snprintf(buffer, sizeof buffer, "%.*g", precision, x);
+    if (std::strtod(buffer, nullptr) == x) break;
+  }
+  return buffer;
+}
+
+std::string numberString(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
+}
+
+void requireFinite(const std::string& field, double value) {
+  if (!std::isfinite(value))
+    throw std::invalid_argument("calibration: " + field + " must be finite, got " +
+                                numberString(value));
+}
+
+void requirePositive(const std::string& field, double value, const std::string& unit) {
+  requireFinite(field, value);
+  if (!(value > 0.0))
+    throw std::invalid_argument("calibration: " + field + " must be > 0 " + unit + ", got " +
+                                numberString(value));
+}
+
+void requireAngle(const std::string& field, double value) {
+  requireFinite(field, value);
+  if (!(value > -M_PI && value <= M_PI))
+    throw std::invalid_argument("calibration: " + field + " must be in (-pi, pi] rad, got " +
+                                numberString(value));
+}
+
+void validateSign(const SignResponse& r, const std::string& name) {
+  requireFinite(name + ".yaw_rate", r.yaw_rate);
+  if (r.yaw_rate == 0.0)
+    throw std::invalid_argument("calibration: " + name + ".yaw_rate must not be 0 rad/s");
+  requirePositive(name + ".circle_radius", r.circle_radius, "m");
+  requireAngle(name + ".axis_path_angle", r.axis_path_angle);
+  requirePositive(name + ".speed", r.speed, "m/s");
+  requireFinite(name + ".body_velocity[0]", r.body_velocity[0]);
+  requireFinite(name + ".body_velocity[1]", r.body_velocity[1]);
+}
+
+// "double-quoted" YAML string.
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (u < 0x20 || u == 0x7f) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof buffer, "\\x%02x", u);
+      out += buffer;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+// Fixed-width "key: value   # comment" lines.
+std::string line(int indent, const std::string& key_value, const std::string& comment) {
+  std::string s = std::string(indent, ' ') + key_value;
+  if (!comment.empty()) {
+    if (s.size() < 44) s.resize(44, ' ');
+    s += "  # " + comment;
+  }
+  return s + "\n";
+}
+
+void writeSign(std::ostream& out, const std::string& name, const SignResponse& r,
+               const std::string& description) {
+  out << line(2, name + ":", description);
+  out << line(4, "yaw_rate: " + numberText(r.yaw_rate),
+              "d psi/dt, counter-clockwise positive [rad/s]");
+  out << line(4, "circle_radius: " + numberText(r.circle_radius),
+              "least-squares circle of the head path [m]");
+  out << line(4, "axis_path_angle: " + numberText(r.axis_path_angle),
+              "path tangent minus heading [rad]");
+  out << line(4, "speed: " + numberText(r.speed), "mean head path speed [m/s]");
+  out << line(4,
+              "body_velocity: [" + numberText(r.body_velocity[0]) + ", " +
+                  numberText(r.body_velocity[1]) + "]",
+              "[along the head axis, to its left] [m/s]");
+}
+
+// Strict reader of one YAML map: every key read once, unknown keys rejected.
+class MapReader {
+ public:
+  MapReader(const YAML::Node& node, std::string path, std::string file)
+      : node_(node), path_(std::move(path)), file_(std::move(file)) {
+    if (!node_.IsMap()) fail(path_, "must be a map");
+  }
+
+  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
+    throw std::runtime_error(file_ + ": calibration field '" + field + "' " + what);
+  }
+
+  std::string field(const std::string& key) const { return path_ + "." + key; }
+
+  YAML::Node get(const std::string& key) {
+    used_.insert(key);
+    const YAML::Node n = node_[key];
+    if (!n) fail(field(key), "is missing");
+    return n;
+  }
+
+  double number(const std::string& key) { return parseNumber(get(key), field(key)); }
+
+  double parseNumber(const YAML::Node& n, const std::string& name) const {
+    if (!n.IsScalar()) fail(name, "must be a number");
+    const std::string& text = n.Scalar();
+    errno = 0;
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE ||
+        !std::isfinite(value))
+      fail(name, "must be a finite number, got '" + text + "'");
+    return value;
+  }
+
+  std::string string(const std::string& key) {
+    const YAML::Node n = get(key);
+    if (!n.IsScalar()) fail(field(key), "must be a string");
+    return n.Scalar();
+  }
+
+  MapReader child(const std::string& key) { return MapReader(get(key), field(key), file_); }
+
+  void rejectUnknown() const {
+    for (const auto& entry : node_) {
+      const std::string key = entry.first.as<std::string>();
+      if (!used_.count(key)) fail(field(key), "is not a known field");
+    }
+  }
+
+ private:
+  YAML::Node node_;
+  std::string path_;
+  std::string file_;
+  std::set<std::string> used_;
+};
+
+SignResponse readSign(MapReader& parent, const std::string& key) {
+  MapReader m = parent.child(key);
+  SignResponse r;
+  r.yaw_rate = m.number("yaw_rate");
+  r.circle_radius = m.number("circle_radius");
+  r.axis_path_angle = m.number("axis_path_angle");
+  r.speed = m.number("speed");
+  const YAML::Node v = m.get("body_velocity");
+  if (!v.IsSequence() || v.size() != 2)
+    m.fail(m.field("body_velocity"), "must be a list of 2 numbers [along, left]");
+  r.body_velocity[0] = m.parseNumber(v[0], m.field("body_velocity[0]"));
+  r.body_velocity[1] = m.parseNumber(v[1], m.field("body_velocity[1]"));
+  m.rejectUnknown();
+  return r;
+}
+
+}  // namespace
+
+void BinaryCalibration::validate() const {
+  requirePositive("omega", omega, "rad/s");
+  requirePositive("switch_period", switch_period, "s");
+  validateSign(plus, "plus");
+  validateSign(minus, "minus");
+  if ((plus.yaw_rate > 0.0) == (minus.yaw_rate > 0.0))
+    throw std::invalid_argument(
+        "calibration: plus.yaw_rate and minus.yaw_rate must have opposite signs, got " +
+        numberString(plus.yaw_rate) + " and " + numberString(minus.yaw_rate) + " rad/s");
+  requirePositive("advance_per_period", advance_per_period, "m");
+  requireAngle("advance_angle", advance_angle);
+  requireFinite("heading_drift_per_period", heading_drift_per_period);
+}
+
+BinaryCalibration loadCalibration(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw std::runtime_error(path + ": cannot open calibration file");
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(path + ": YAML syntax error: " + e.what());
+  }
+  if (!root.IsMap()) throw std::runtime_error(path + ": expected a map with key 'calibration'");
+  for (const auto& entry : root) {
+    const std::string key = entry.first.as<std::string>();
+    if (key != "calibration")
+      throw std::runtime_error(path + ": calibration field '" + key +
+                               "' is not a known field (expected only 'calibration')");
+  }
+  if (!root["calibration"])
+    throw std::runtime_error(path + ": calibration field 'calibration' is missing");
+
+  MapReader m(root["calibration"], "calibration", path);
+  BinaryCalibration c;
+  c.omega = m.number("omega");
+  c.switch_period = m.number("switch_period");
+  c.plus = readSign(m, "plus");
+  c.minus = readSign(m, "minus");
+  c.advance_per_period = m.number("advance_per_period");
+  c.advance_angle = m.number("advance_angle");
+  c.heading_drift_per_period = m.number("heading_drift_per_period");
+  c.source = m.string("source");
+  m.rejectUnknown();
+  try {
+    c.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+  return c;
+}
+
+void saveCalibration(const BinaryCalibration& c, const std::string& path) {
+  std::ostringstream out;
+  out << "# Binary-input calibration of a flagellated robot (physics spec 7.3).\n"
+         "# Output frame, z up: heading psi = azimuth of the head axis; angles counter-clockwise\n"
+         "# positive. SI units: rad/s, s, m, m/s, rad.\n"
+         "# plus/minus: steady motion at constant +omega/-omega. Periodic switching: +omega for\n"
+         "# switch_period/2, then -omega for switch_period/2; advance_* and heading_drift_* are\n"
+         "# per period, the displacement expressed in the frame of the heading at the period "
+         "start.\n";
+  out << "calibration:\n";
+  out << line(2, "omega: " + numberText(c.omega), "|motor rate| of the binary input [rad/s]");
+  out << line(2, "switch_period: " + numberText(c.switch_period),
+              "T of the switching run [s]: +omega T/2, then -omega T/2");
+  writeSign(out, "plus", c.plus, "constant +omega");
+  writeSign(out, "minus", c.minus, "constant -omega");
+  out << line(2, "advance_per_period: " + numberText(c.advance_per_period),
+              "net head displacement per period [m]");
+  out << line(2, "advance_angle: " + numberText(c.advance_angle),
+              "its direction from the heading at the period start [rad]");
+  out << line(2, "heading_drift_per_period: " + numberText(c.heading_drift_per_period),
+              "net heading change per period [rad]");
+  out << line(2, "source: " + quoted(c.source), "how it was obtained");
+
+  std::ofstream file(path);
+  if (!file) throw std::runtime_error(path + ": cannot open for writing");
+  file << out.str();
+  file.close();
+  if (!file) throw std::runtime_error(path + ": write failed");
+}
+
+}  // namespace flagella_control

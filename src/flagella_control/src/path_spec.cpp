@@ -1,0 +1,138 @@
+#include "flagella_control/path_spec.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace flagella_control {
+namespace {
+
+[[noreturn]] void fail(const std::string& message) { throw std::runtime_error("path: " + message); }
+
+double positiveLength(const YAML::Node& node, const std::string& field) {
+  if (!node[field]) fail("'" + field + "' is required for this shape (a length in metres > 0)");
+  double value = 0.0;
+  try {
+    value = node[field].as<double>();
+  } catch (const YAML::Exception&) {
+    fail("'" + field + "' must be a number (metres > 0)");
+  }
+  if (!(value > 0.0) || !std::isfinite(value) || value > 1000.0)
+    fail("'" + field + "' = " + std::to_string(value) + " is out of range (0, 1000] m");
+  return value;
+}
+
+bool turnsLeft(const YAML::Node& node) {
+  if (!node["turn"]) return true;
+  const std::string turn = node["turn"].as<std::string>();
+  if (turn == "left") return true;
+  if (turn == "right") return false;
+  fail("'turn' must be 'left' or 'right', got '" + turn + "'");
+}
+
+std::string format(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+void rejectUnknownKeys(const YAML::Node& node, const std::set<std::string>& allowed) {
+  for (const auto& item : node) {
+    const std::string key = item.first.as<std::string>();
+    if (!allowed.count(key)) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      fail("unknown field '" + key + "' (allowed: " + list + ")");
+    }
+  }
+}
+
+}  // namespace
+
+PathSpec pathSpecFromYaml(const YAML::Node& node) {
+  if (!node || !node.IsMap()) fail("the 'path' entry must be a map with a 'shape'");
+  rejectUnknownKeys(node, {"shape", "frame", "width", "height", "side", "radius", "turn",
+                           "points", "closed", "laps"});
+  if (!node["shape"]) fail("'shape' is required: polyline, circle, rectangle or triangle");
+  const std::string shape = node["shape"].as<std::string>();
+  PathSpec spec;
+  const std::string frame = node["frame"] ? node["frame"].as<std::string>() : "start";
+  if (frame == "start")
+    spec.frame = PathFrame::Start;
+  else if (frame == "world")
+    spec.frame = PathFrame::World;
+  else
+    fail("'frame' must be 'start' or 'world', got '" + frame + "'");
+
+  const bool left = turnsLeft(node);
+  const double side_sign = left ? 1.0 : -1.0;
+  const std::string turn_text = left ? "left" : "right";
+  bool closed = true;
+  if (shape == "rectangle") {
+    const double w = positiveLength(node, "width"), h = positiveLength(node, "height");
+    spec.path = Path::polyline({{0, 0}, {w, 0}, {w, side_sign * h}, {0, side_sign * h}}, true);
+    spec.description = "rectangle " + format(w) + " x " + format(h) + " m, turning " + turn_text;
+  } else if (shape == "triangle") {
+    const double a = positiveLength(node, "side");
+    spec.path = Path::polyline({{0, 0}, {a, 0}, {a / 2, side_sign * a * std::sqrt(3.0) / 2}}, true);
+    spec.description = "equilateral triangle, side " + format(a) + " m, turning " + turn_text;
+  } else if (shape == "circle") {
+    const double r = positiveLength(node, "radius");
+    spec.path = Path::circle({0, 0}, 0.0, r, left);
+    spec.description = "circle, radius " + format(r) + " m, turning " + turn_text;
+  } else if (shape == "polyline") {
+    if (!node["points"] || !node["points"].IsSequence())
+      fail("'points' is required for a polyline: a list of [x, y] pairs in metres");
+    std::vector<Vec2> points;
+    for (size_t i = 0; i < node["points"].size(); ++i) {
+      const YAML::Node p = node["points"][i];
+      if (!p.IsSequence() || p.size() != 2)
+        fail("points[" + std::to_string(i) + "] must be a pair [x, y] in metres");
+      try {
+        points.emplace_back(p[0].as<double>(), p[1].as<double>());
+      } catch (const YAML::Exception&) {
+        fail("points[" + std::to_string(i) + "] must hold two numbers");
+      }
+    }
+    closed = node["closed"] ? node["closed"].as<bool>() : false;
+    try {
+      spec.path = Path::polyline(points, closed);
+    } catch (const std::invalid_argument& e) {
+      fail(e.what());
+    }
+    spec.description = std::string(closed ? "closed " : "") + "polyline of " +
+                       std::to_string(points.size()) + " points";
+  } else {
+    fail("unknown shape '" + shape + "' (allowed: polyline, circle, rectangle, triangle)");
+  }
+  if (node["laps"]) {
+    spec.laps = node["laps"].as<int>();
+    if (spec.laps < 1 || spec.laps > 100)
+      fail("'laps' = " + std::to_string(spec.laps) + " is out of range [1, 100]");
+    if (!closed && spec.laps != 1) fail("'laps' must be 1 for an open polyline");
+  }
+  spec.description += frame == "start" ? " (start frame)" : " (world frame)";
+  return spec;
+}
+
+PathSpec loadPathSpec(const std::string& file) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(file + ": " + e.what());
+  }
+  try {
+    if (!root["path"]) fail("missing top-level 'path' entry");
+    return pathSpecFromYaml(root["path"]);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(file + ": path: " + e.what());
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(file + ": " + e.what());
+  }
+}
+
+}  // namespace flagella_control
