@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "flagella_control/validation.h"
+
 namespace flagella_control {
 
 namespace {
@@ -30,41 +32,24 @@ std::string numberText(double x) {
   return buffer;
 }
 
-std::string numberString(double x) {
-  std::ostringstream out;
-  out << x;
-  return out.str();
-}
-
-void requireFinite(const std::string& field, double value) {
-  if (!std::isfinite(value))
-    throw std::invalid_argument("calibration: " + field + " must be finite, got " +
-                                numberString(value));
-}
-
-void requirePositive(const std::string& field, double value, const std::string& unit) {
-  requireFinite(field, value);
-  if (!(value > 0.0))
-    throw std::invalid_argument("calibration: " + field + " must be > 0 " + unit + ", got " +
-                                numberString(value));
-}
+const char* const kContext = "calibration";
 
 void requireAngle(const std::string& field, double value) {
-  requireFinite(field, value);
+  requireFinite(kContext, field, value);
   if (!(value > -M_PI && value <= M_PI))
     throw std::invalid_argument("calibration: " + field + " must be in (-pi, pi] rad, got " +
                                 numberString(value));
 }
 
 void validateSign(const SignResponse& r, const std::string& name) {
-  requireFinite(name + ".yaw_rate", r.yaw_rate);
+  requireFinite(kContext, name + ".yaw_rate", r.yaw_rate);
   if (r.yaw_rate == 0.0)
     throw std::invalid_argument("calibration: " + name + ".yaw_rate must not be 0 rad/s");
-  requirePositive(name + ".circle_radius", r.circle_radius, "m");
+  requirePositive(kContext, name + ".circle_radius", r.circle_radius, "m");
   requireAngle(name + ".axis_path_angle", r.axis_path_angle);
-  requirePositive(name + ".speed", r.speed, "m/s");
-  requireFinite(name + ".body_velocity[0]", r.body_velocity[0]);
-  requireFinite(name + ".body_velocity[1]", r.body_velocity[1]);
+  requirePositive(kContext, name + ".speed", r.speed, "m/s");
+  requireFinite(kContext, name + ".body_velocity[0]", r.body_velocity[0]);
+  requireFinite(kContext, name + ".body_velocity[1]", r.body_velocity[1]);
 }
 
 // "double-quoted" YAML string.
@@ -192,17 +177,17 @@ SignResponse readSign(MapReader& parent, const std::string& key) {
 }  // namespace
 
 void BinaryCalibration::validate() const {
-  requirePositive("omega", omega, "rad/s");
-  requirePositive("switch_period", switch_period, "s");
+  requirePositive(kContext, "omega", omega, "rad/s");
+  requirePositive(kContext, "switch_period", switch_period, "s");
   validateSign(plus, "plus");
   validateSign(minus, "minus");
   if ((plus.yaw_rate > 0.0) == (minus.yaw_rate > 0.0))
     throw std::invalid_argument(
         "calibration: plus.yaw_rate and minus.yaw_rate must have opposite signs, got " +
         numberString(plus.yaw_rate) + " and " + numberString(minus.yaw_rate) + " rad/s");
-  requirePositive("advance_per_period", advance_per_period, "m");
+  requirePositive(kContext, "advance_per_period", advance_per_period, "m");
   requireAngle("advance_angle", advance_angle);
-  requireFinite("heading_drift_per_period", heading_drift_per_period);
+  requireFinite(kContext, "heading_drift_per_period", heading_drift_per_period);
 }
 
 BinaryCalibration loadCalibration(const std::string& path) {

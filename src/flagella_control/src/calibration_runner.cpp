@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "flagella_control/heading.h"
+#include "flagella_control/validation.h"
 #include "flagella_sim/outputs/fits.h"
 #include "flagella_sim/runtime/sim_session.h"
 
@@ -16,25 +17,15 @@ namespace flagella_control {
 
 namespace {
 
-std::string str(double x) {
-  std::ostringstream out;
-  out << x;
-  return out.str();
-}
-
-void requirePositive(const std::string& field, double value, const std::string& unit) {
-  if (!std::isfinite(value) || !(value > 0.0))
-    throw std::invalid_argument("calibration options: " + field + " must be > 0 " + unit +
-                                " and finite, got " + str(value));
-}
+const char* const kOptions = "calibration options";
 
 /// Number of steps of length dt in `duration`, which must be a whole number of steps.
 long wholeSteps(const std::string& field, double duration, double dt) {
   const double n = std::round(duration / dt);
   if (n < 1.0 || std::abs(n * dt - duration) > 1e-6 * dt)
     throw std::invalid_argument(
-        "calibration options: " + field + " = " + str(duration) +
-        " s must be a whole, non-zero number of time steps dt = " + str(dt) + " s");
+        "calibration options: " + field + " = " + numberString(duration) +
+        " s must be a whole, non-zero number of time steps dt = " + numberString(dt) + " s");
   return static_cast<long>(n);
 }
 
@@ -56,7 +47,7 @@ class Driver {
     const flagella::SessionHealth h = session_.health();
     if (!ok || h.solver_failures > 0)
       throw std::runtime_error("calibration " + run_ + ": solver failure at t = " +
-                               str(session_.time()) + " s (" + h.message + ")");
+                               numberString(session_.time()) + " s (" + h.message + ")");
   }
 
   /// Head position (x, y) and heading in the output frame.
@@ -67,8 +58,8 @@ class Driver {
     xy = s.head_position.head<2>();
     psi = headingFromQuaternion(quaternion);
     if (!xy.allFinite() || !std::isfinite(psi))
-      throw std::runtime_error("calibration " + run_ +
-                               ": non-finite head state at t = " + str(session_.time()) + " s");
+      throw std::runtime_error("calibration " + run_ + ": non-finite head state at t = " +
+                               numberString(session_.time()) + " s");
   }
 
   double dt() const { return session_.dt(); }
@@ -100,17 +91,17 @@ void CalibrationOptions::validate() const {
     throw std::invalid_argument(
         "calibration options: omega must be >= 0 rad/s (0: from the "
         "config), got " +
-        str(omega));
-  requirePositive("switch_period", switch_period, "s");
+        numberString(omega));
+  requirePositive(kOptions, "switch_period", switch_period, "s");
   if (!std::isfinite(settle_time) || settle_time < 0.0)
     throw std::invalid_argument("calibration options: settle_time must be >= 0 s, got " +
-                                str(settle_time));
-  requirePositive("measure_time", measure_time, "s");
-  requirePositive("sample_interval", sample_interval, "s");
+                                numberString(settle_time));
+  requirePositive(kOptions, "measure_time", measure_time, "s");
+  requirePositive(kOptions, "sample_interval", sample_interval, "s");
   if (measure_time < 4.0 * sample_interval)
-    throw std::invalid_argument("calibration options: measure_time = " + str(measure_time) +
-                                " s must span at least 4 sample intervals of " +
-                                str(sample_interval) + " s");
+    throw std::invalid_argument(
+        "calibration options: measure_time = " + numberString(measure_time) +
+        " s must span at least 4 sample intervals of " + numberString(sample_interval) + " s");
   if (settle_periods < 0)
     throw std::invalid_argument("calibration options: settle_periods must be >= 0, got " +
                                 std::to_string(settle_periods));

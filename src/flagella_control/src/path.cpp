@@ -11,9 +11,6 @@ namespace {
 
 constexpr double kMinElementLength = 1e-9;  // [m]; shorter elements are dropped
 
-Vec2 polar(double angle) { return Vec2(std::cos(angle), std::sin(angle)); }
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 }  // namespace
 
 Path Path::polyline(const std::vector<Vec2>& points, bool closed) {
@@ -39,7 +36,7 @@ Path Path::circle(const Vec2& start, double start_tangent, double radius, bool c
   if (!(radius > 0.0) || !std::isfinite(radius))
     throw std::invalid_argument("path: circle radius must be > 0, got " + std::to_string(radius));
   const double side = ccw ? 1.0 : -1.0;  // centre to the left for a CCW circle
-  const Vec2 center = start + side * radius * polar(start_tangent + M_PI / 2.0);
+  const Vec2 center = start + side * radius * unitVector(start_tangent + M_PI / 2.0);
   const double start_angle = std::atan2(start.y() - center.y(), start.x() - center.x());
   Path path;
   path.appendArc(center, radius, start_angle, side * 2.0 * M_PI);
@@ -66,8 +63,8 @@ void Path::appendArc(const Vec2& center, double radius, double start_angle, doub
   e.radius = radius;
   e.start_angle = start_angle;
   e.sweep = sweep;
-  e.start = center + radius * polar(start_angle);
-  e.end = center + radius * polar(start_angle + sweep);
+  e.start = center + radius * unitVector(start_angle);
+  e.end = center + radius * unitVector(start_angle + sweep);
   e.length = radius * std::abs(sweep);
   if (e.length < kMinElementLength) return;
   e.s_start = length_;
@@ -89,7 +86,7 @@ PathPoint pointOn(const PathElement& e, double local_s, int index) {
   } else {
     const double side = e.sweep >= 0.0 ? 1.0 : -1.0;
     const double angle = e.start_angle + side * local_s / e.radius;
-    p.position = e.center + e.radius * polar(angle);
+    p.position = e.center + e.radius * unitVector(angle);
     p.tangent = wrapAngle(angle + side * M_PI / 2.0);
     p.curvature = side / e.radius;
   }
@@ -149,7 +146,7 @@ PathProjection Path::projectOnElement(const PathElement& e, const Vec2& q, doubl
   p.s = e.s_start + local;
   const Vec2 d = q - p.point.position;
   p.distance = d.norm();
-  p.cross_track = cross(polar(p.point.tangent), d) >= 0.0 ? p.distance : -p.distance;
+  p.cross_track = cross(unitVector(p.point.tangent), d) >= 0.0 ? p.distance : -p.distance;
   return p;
 }
 

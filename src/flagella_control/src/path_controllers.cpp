@@ -6,17 +6,18 @@
 #include <stdexcept>
 #include <string>
 
+#include "flagella_control/validation.h"
+
 namespace flagella_control {
 namespace {
 
-constexpr double kAnchorWait = 1.0;       // [s] wait this long for a first camera fix
-constexpr double kMaxPredictionStep = 1.0;  // [s] longer gaps between steps are not integrated
-constexpr double kSearchBack = 0.02;      // [m] projection window behind the progress point
+constexpr double kAnchorWait = 1.0;              // [s] wait this long for a first camera fix
+constexpr double kMaxPredictionStep = 1.0;       // [s] longer gaps between steps are not integrated
+constexpr double kSearchBack = 0.02;             // [m] projection window behind the progress point
 constexpr double kBehindThreshold = 0.5 * M_PI;  // course error that makes a turn "committed"
 constexpr double kReleaseThreshold = 0.25 * M_PI;
 constexpr int kDutySteps = 40;  // candidate shares of +omega per switching period
-
-Vec2 direction(double angle) { return Vec2(std::cos(angle), std::sin(angle)); }
+const char* const kGains = "path following";
 
 // Direction of the net motion over a period with `plus` seconds at +omega, relative to the
 // heading at its start.
@@ -27,13 +28,6 @@ double chordAngle(const BinaryCalibration& c, double plus) {
 
 const SignResponse& response(const BinaryCalibration& c, int sign) {
   return sign >= 0 ? c.plus : c.minus;
-}
-
-void requireRange(double value, double lo, double hi, const char* field) {
-  if (!(value >= lo && value <= hi))
-    throw std::invalid_argument(std::string("path following: ") + field + " = " +
-                                std::to_string(value) + " is out of range [" +
-                                std::to_string(lo) + ", " + std::to_string(hi) + "]");
 }
 
 }  // namespace
@@ -120,19 +114,16 @@ ControllerOutputs ScheduleController::step(const ControllerInputs& in) {
   if (status_.mode_finished) return finished();
   if (!anchorIfNeeded(in)) return idle();
   const double t = in.time - start_time_;
-  const int sign = schedule_.signAt(t);
-  if (sign == 0) {
+  const SwitchInterval* interval = schedule_.intervalAt(t);
+  if (!interval) {
     status_.mode_finished = true;
     return finished();
   }
   // Progress and errors from the schedule position only: open loop ignores the sensors.
-  const auto& iv = schedule_.intervals;
-  auto it = std::upper_bound(iv.begin(), iv.end(), t,
-                             [](double time, const SwitchInterval& s) { return time < s.start; });
-  status_.element = (it - 1)->element;
+  status_.element = interval->element;
   status_.progress = std::clamp(t / schedule_.duration, 0.0, 1.0);
   ControllerOutputs out;
-  out.motor_command = sign * calibration_.omega;
+  out.motor_command = interval->sign * calibration_.omega;
   out.mode = ControllerMode::Running;
   return out;
 }
@@ -140,16 +131,17 @@ ControllerOutputs ScheduleController::step(const ControllerInputs& in) {
 // ---- closed loop ------------------------------------------------------------------------------
 
 void PathFollowingGains::validate() const {
-  requireRange(lookahead, 1e-3, 10.0, "lookahead [m]");
-  requireRange(cross_track_integral, 0.0, 10.0, "cross_track_integral [1/s]");
-  requireRange(heading_gain, 0.0, 1.0, "heading_gain [fraction of the course error per period]");
-  requireRange(fix_gain, 0.0, 1.0, "fix_gain");
-  requireRange(min_pulse, 0.0, 100.0, "min_pulse [s]");
-  requireRange(search_window, 1e-3, 100.0, "search_window [m]");
-  requireRange(imu_timeout, 1e-3, 1e3, "imu_timeout [s]");
-  requireRange(fix_timeout, 1e-3, 1e4, "fix_timeout [s]");
-  requireRange(sensor_fault_timeout, 1e-3, 1e4, "sensor_fault_timeout [s]");
-  requireRange(finish_tolerance, 0.0, 10.0, "finish_tolerance [m]");
+  requireInRange(kGains, "lookahead [m]", lookahead, 1e-3, 10.0);
+  requireInRange(kGains, "cross_track_integral [1/s]", cross_track_integral, 0.0, 10.0);
+  requireInRange(kGains, "heading_gain [fraction of the course error per period]", heading_gain,
+                 0.0, 1.0);
+  requireInRange(kGains, "fix_gain", fix_gain, 0.0, 1.0);
+  requireInRange(kGains, "min_pulse [s]", min_pulse, 0.0, 100.0);
+  requireInRange(kGains, "search_window [m]", search_window, 1e-3, 100.0);
+  requireInRange(kGains, "imu_timeout [s]", imu_timeout, 1e-3, 1e3);
+  requireInRange(kGains, "fix_timeout [s]", fix_timeout, 1e-3, 1e4);
+  requireInRange(kGains, "sensor_fault_timeout [s]", sensor_fault_timeout, 1e-3, 1e4);
+  requireInRange(kGains, "finish_tolerance [m]", finish_tolerance, 0.0, 10.0);
 }
 
 PathFollowingController::PathFollowingController(PathSpec spec, BinaryCalibration calibration,
@@ -208,8 +200,8 @@ double PathFollowingController::courseError(const Vec2& position, double course,
   const double s = std::min(progress + gains_.lookahead, total);
   PathPoint carrot_point = world_path_.at(world_path_.closed() && s >= total ? total - 1e-9 : s);
   carrot_point.position +=
-      std::max(0.0, progress + gains_.lookahead - total) * direction(carrot_point.tangent);
-  const Vec2 normal = direction(carrot_point.tangent + 0.5 * M_PI);
+      std::max(0.0, progress + gains_.lookahead - total) * unitVector(carrot_point.tangent);
+  const Vec2 normal = unitVector(carrot_point.tangent + 0.5 * M_PI);
   const Vec2 carrot =
       carrot_point.position - gains_.cross_track_integral * cross_track_integral_ * normal;
   const Vec2 to_carrot = carrot - position;
@@ -233,6 +225,7 @@ void PathFollowingController::startPeriod(double time) {
   // model puts the robot at the end of the period (including the sideways slip of unequal
   // halves) and its course error there; aim for (1 - heading_gain) of today's error.
   const double target = (1.0 - gains_.heading_gain) * error;
+  const double total = totalLength();
   double best_cost = std::numeric_limits<double>::infinity();
   for (int k = 0; k <= kDutySteps; ++k) {
     const double plus = T * k / kDutySteps;
@@ -240,9 +233,10 @@ void PathFollowingController::startPeriod(double time) {
       continue;
     const PeriodMotion m = predictPeriod(calibration_, heading_, plus);
     const Vec2 end = position_ + m.displacement;
-    const double total = totalLength();
-    const double s = world_path_.project(end, progress_s_ - kSearchBack,
-                                         std::min(progress_s_ + gains_.search_window, total)).s;
+    const double s = world_path_
+                         .project(end, progress_s_ - kSearchBack,
+                                  std::min(progress_s_ + gains_.search_window, total))
+                         .s;
     // Its course error at the end if the same share were kept (a steady turn slips sideways).
     const double course = heading_ + m.turn + chordAngle(calibration_, plus);
     const double e = courseError(end, course, std::max(s, progress_s_)) - target;
@@ -265,8 +259,8 @@ ControllerOutputs PathFollowingController::step(const ControllerInputs& in) {
   }
   // Progress: the nearest point in a window around the last progress (never moves back).
   const double total = totalLength();
-  const PathProjection proj = world_path_.project(position_, progress_s_ - kSearchBack,
-                                                  std::min(progress_s_ + gains_.search_window, total));
+  const PathProjection proj = world_path_.project(
+      position_, progress_s_ - kSearchBack, std::min(progress_s_ + gains_.search_window, total));
   progress_s_ = std::max(progress_s_, proj.s);
   status_.element = proj.point.element;
   status_.cross_track = proj.cross_track;
@@ -276,14 +270,15 @@ ControllerOutputs PathFollowingController::step(const ControllerInputs& in) {
   if (proj.distance < gains_.lookahead && dt > 0.0 && dt < kMaxPredictionStep)
     cross_track_integral_ += proj.cross_track * dt;
   // Anti-windup: the carrot never moves further across than one lookahead.
-  const double limit = gains_.cross_track_integral > 0 ? gains_.lookahead / gains_.cross_track_integral : 0.0;
+  const double limit =
+      gains_.cross_track_integral > 0 ? gains_.lookahead / gains_.cross_track_integral : 0.0;
   cross_track_integral_ = std::clamp(cross_track_integral_, -limit, limit);
 
   // Done: the whole run's arclength covered (an open path: reaching its end).
   // or being past the end point along the path's final direction, near the end.
   const PathPoint end = world_path_.at(world_path_.closed() ? total - 1e-9 : total);
   const bool done = progress_s_ >= total - gains_.finish_tolerance ||
-                    ((position_ - end.position).dot(direction(end.tangent)) >= 0.0 &&
+                    ((position_ - end.position).dot(unitVector(end.tangent)) >= 0.0 &&
                      progress_s_ >= total - gains_.lookahead);
   if (done) {
     status_.mode_finished = true;
@@ -291,7 +286,7 @@ ControllerOutputs PathFollowingController::step(const ControllerInputs& in) {
   }
   if (in.time - period_start_ >= calibration_.switch_period) startPeriod(in.time);
   applied_sign_ = in.time - period_start_ < plus_duration_ ? 1 : -1;
-  status_.message = status_.imu_stale ? "running: IMU dropout, heading dead-reckoned"
+  status_.message = status_.imu_stale   ? "running: IMU dropout, heading dead-reckoned"
                     : status_.fix_stale ? "running: no recent camera fix, position dead-reckoned"
                                         : "running";
   ControllerOutputs out;

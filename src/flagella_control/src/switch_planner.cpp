@@ -8,12 +8,9 @@
 namespace flagella_control {
 namespace {
 
-constexpr double kShortestInterval = 1e-3;     // [s]; shorter pieces are dropped
-constexpr double kMaxOffsetFraction = 0.45;    // |epsilon| <= this * T for steering by switching
-constexpr double kParallelTolerance = 1e-6;    // |sin| of the angle between two sides
-
-Vec2 direction(double angle) { return Vec2(std::cos(angle), std::sin(angle)); }
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+constexpr double kShortestInterval = 1e-3;   // [s]; shorter pieces are dropped
+constexpr double kMaxOffsetFraction = 0.45;  // |epsilon| <= this * T for steering by switching
+constexpr double kParallelTolerance = 1e-6;  // |sin| of the angle between two sides
 
 std::string describe(const Path& path, int element) {
   return "path element " + std::to_string(element) + " (" +
@@ -58,11 +55,11 @@ class ScheduleBuilder {
 
 }  // namespace
 
-int SwitchSchedule::signAt(double t) const {
-  if (intervals.empty() || t < 0.0 || t >= duration) return 0;
+const SwitchInterval* SwitchSchedule::intervalAt(double t) const {
+  if (intervals.empty() || t < 0.0 || t >= duration) return nullptr;
   auto it = std::upper_bound(intervals.begin(), intervals.end(), t,
                              [](double time, const SwitchInterval& s) { return time < s.start; });
-  return (it - 1)->sign;
+  return &*(it - 1);
 }
 
 double halfPeriodOffset(const BinaryCalibration& c, double turn) {
@@ -147,7 +144,7 @@ SwitchSchedule planSchedule(const Path& path, const BinaryCalibration& c, int la
     const PathElement& e = path.elements()[i];
     const double incoming = path.at(e.s_start + e.length - 1e-9).tangent;
     const double outgoing = incoming + turn;
-    const Vec2 t1 = direction(incoming), t2 = direction(outgoing);
+    const Vec2 t1 = unitVector(incoming), t2 = unitVector(outgoing);
     const Vec2 d = holdDisplacement(r, periodStartHeading(c, incoming), turn);
     const double det = cross(t1, t2);
     if (std::abs(det) < kParallelTolerance) return corner;  // a U-turn: no cut is defined
@@ -167,11 +164,12 @@ SwitchSchedule planSchedule(const Path& path, const BinaryCalibration& c, int la
     const double length = e.length - cut_at_start - corner.cut_before;
     if (length < 0.0)
       throw std::invalid_argument(
-          "planner: " + describe(path, i) + " is too short for the turns at its ends: " +
-          "turning with this calibration uses " + std::to_string(cut_at_start + corner.cut_before) +
-          " m of it");
+          "planner: " + describe(path, i) +
+          " is too short for the turns at its ends: " + "turning with this calibration uses " +
+          std::to_string(cut_at_start + corner.cut_before) + " m of it");
     double turn_per_period = 0.0;
-    if (e.kind == PathElement::Kind::Arc) turn_per_period = (e.sweep > 0 ? 1 : -1) * advance / e.radius;
+    if (e.kind == PathElement::Kind::Arc)
+      turn_per_period = (e.sweep > 0 ? 1 : -1) * advance / e.radius;
     const double epsilon = halfPeriodOffset(c, turn_per_period);
     if (std::abs(epsilon) > kMaxOffsetFraction * c.switch_period)
       throw std::invalid_argument(

@@ -16,6 +16,7 @@
 #include "flagella_control/calibration_runner.h"
 #include "flagella_control/heading.h"
 #include "flagella_sim/simulation/simulation_config.h"
+#include "support/temp_dir.h"
 
 namespace flagella_control {
 namespace {
@@ -34,15 +35,7 @@ std::string readText(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-template <class E>
-std::string errorMessageOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  }
-  return "<no exception>";
-}
+using flagella::testing::errorMessageOf;
 
 // Values with long binary expansions, so that an exact round trip is a real test.
 BinaryCalibration example() {

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "flagella_control/path_controllers.h"
+#include "support/sign_response.h"
 
 // ---- heap-allocation counter (whole test binary; counts only while enabled) ------------------
 // The replacements pair malloc/aligned_alloc with free; GCC cannot see that through inlining.
@@ -84,21 +85,10 @@ using fc::Vec2;
 
 namespace {
 
-constexpr double kRate = 100.0;     // controller [Hz]
-constexpr int kCameraEvery = 50;    // camera at 2 Hz
+constexpr double kRate = 100.0;   // controller [Hz]
+constexpr int kCameraEvery = 50;  // camera at 2 Hz
 
 // ---- calibration ------------------------------------------------------------------------------
-
-fc::SignResponse signResponse(double yaw_rate, double v_along, double v_left) {
-  fc::SignResponse r;
-  r.yaw_rate = yaw_rate;
-  r.body_velocity[0] = v_along;
-  r.body_velocity[1] = v_left;
-  r.speed = std::hypot(v_along, v_left);
-  r.circle_radius = r.speed / std::abs(yaw_rate);
-  r.axis_path_angle = std::atan2(v_left, v_along);
-  return r;
-}
 
 /// Hand-made round numbers (omega 4.5 rad/s, T = 10 s, yaw rates -/+0.03 rad/s, body velocities
 /// {-1, +3} and {-1, -3} mm/s). The advance per period and its angle are those the ideal plant
@@ -110,8 +100,8 @@ fc::BinaryCalibration nominalCalibration() {
   c.switch_period = 10.0;
   // The interface robot's chirality (config/calibration): +omega turns clockwise and slides
   // to the right of the direction of advance, which is opposite to the head axis.
-  c.plus = signResponse(-0.03, -1e-3, +3e-3);
-  c.minus = signResponse(+0.03, -1e-3, -3e-3);
+  c.plus = fc::testing::signResponse(-0.03, -1e-3, +3e-3);
+  c.minus = fc::testing::signResponse(+0.03, -1e-3, -3e-3);
   Vec2 p = Vec2::Zero();
   double h = 0.0;
   const double dt = 1e-4;
@@ -164,8 +154,8 @@ struct Scenario {
   double start_heading = 0.4;
   double imu_off_from = -1.0, imu_off_to = -1.0;  ///< IMU invalid in [from, to)
   double camera_off_from = -1.0, camera_off_to = -1.0;
-  double imu_on_at = 0.0;   ///< no IMU sample before this time
-  double t_max = 4000.0;    ///< [s]
+  double imu_on_at = 0.0;      ///< no IMU sample before this time
+  double t_max = 4000.0;       ///< [s]
   double after_finish = 50.0;  ///< keep stepping this long after Finished [s]
 };
 
@@ -287,8 +277,9 @@ fc::PathSpec startFramePolyline() {
 }
 
 void print(const char* label, const Result& r) {
-  std::printf("[ control  ] %-52s finished %-3s at %7.1f s  cross-track max %6.1f mm  RMS %6.1f mm\n",
-              label, r.finished ? "yes" : "NO", r.finish_time, r.max_ct * 1e3, r.rms_ct * 1e3);
+  std::printf(
+      "[ control  ] %-52s finished %-3s at %7.1f s  cross-track max %6.1f mm  RMS %6.1f mm\n",
+      label, r.finished ? "yes" : "NO", r.finish_time, r.max_ct * 1e3, r.rms_ct * 1e3);
 }
 
 }  // namespace
@@ -466,14 +457,14 @@ TEST(PathFollowing, TurnsAroundToAGoalBehindWithoutChattering) {
   double max_after = 0.0;
   for (size_t i = 0; i < r.true_ct.size(); ++i)
     if (r.progress[i] > 0.0) max_after = std::max(max_after, r.true_ct[i]);
-  std::printf("[ control  ] goal behind: turned %s for %zu periods (course error %.2f -> %.2f "
-              "rad), %d reversals and %d unsaturated periods during the turn, %d side flips in "
-              "%zu periods overall; finished at %.0f s, cross-track max %.1f mm once on the path, "
-              "end %.1f mm from the path's end, heading %.2f rad off\n",
-              left ? "left" : "right", turnaround, error[0], error[turnaround], reversals,
-              unsaturated, flips, duty.size(), r.finish_time, max_after * 1e3,
-              (r.end - Vec2(-0.6, 0.0)).norm() * 1e3,
-              fc::wrapAngle(r.end_heading + c.advance_angle - M_PI));
+  std::printf(
+      "[ control  ] goal behind: turned %s for %zu periods (course error %.2f -> %.2f "
+      "rad), %d reversals and %d unsaturated periods during the turn, %d side flips in "
+      "%zu periods overall; finished at %.0f s, cross-track max %.1f mm once on the path, "
+      "end %.1f mm from the path's end, heading %.2f rad off\n",
+      left ? "left" : "right", turnaround, error[0], error[turnaround], reversals, unsaturated,
+      flips, duty.size(), r.finish_time, max_after * 1e3, (r.end - Vec2(-0.6, 0.0)).norm() * 1e3,
+      fc::wrapAngle(r.end_heading + c.advance_angle - M_PI));
   EXPECT_EQ(reversals, 0);
   EXPECT_GT(max_after, 0.0);
   EXPECT_LT(max_after, 0.15);  // measured 124 mm
@@ -671,8 +662,8 @@ TEST(PathFollowing, StepDoesNotAllocate) {
       plant.step((out.motor_command > 0) - (out.motor_command < 0), 1.0 / kRate);
     }
     g_count_allocations = false;
-    EXPECT_EQ(g_allocations.load(), 0) << ctrl.name() << ": " << g_allocations.load()
-                                       << " heap allocations in 4999 steps";
+    EXPECT_EQ(g_allocations.load(), 0)
+        << ctrl.name() << ": " << g_allocations.load() << " heap allocations in 4999 steps";
     // The counter works.
     g_count_allocations = true;
     std::vector<int>* probe = new std::vector<int>(100);
@@ -682,7 +673,8 @@ TEST(PathFollowing, StepDoesNotAllocate) {
   }
 }
 
-// ---- configuration errors ------------------------------------------------------------------------
+// ---- configuration errors
+// ------------------------------------------------------------------------
 
 namespace {
 std::string gainsError(const fc::PathFollowingGains& g) {

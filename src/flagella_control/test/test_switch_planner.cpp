@@ -14,6 +14,7 @@
 #include "flagella_control/calibration.h"
 #include "flagella_control/path.h"
 #include "flagella_control/switch_planner.h"
+#include "support/sign_response.h"
 
 namespace fc = flagella_control;
 using fc::Path;
@@ -23,24 +24,13 @@ namespace {
 
 // ---- hand-made calibrations ------------------------------------------------------------------
 
-fc::SignResponse sign(double yaw_rate, double v_along, double v_left) {
-  fc::SignResponse r;
-  r.yaw_rate = yaw_rate;
-  r.body_velocity[0] = v_along;
-  r.body_velocity[1] = v_left;
-  r.speed = std::hypot(v_along, v_left);
-  r.circle_radius = r.speed / std::abs(yaw_rate);
-  r.axis_path_angle = std::atan2(v_left, v_along);
-  return r;
-}
-
 /// Round numbers, mirror-symmetric, no drift (used for pure timing arithmetic).
 fc::BinaryCalibration handCalibration() {
   fc::BinaryCalibration c;
   c.omega = 4.5;
   c.switch_period = 10.0;
-  c.plus = sign(+0.03, 1e-3, -3e-3);
-  c.minus = sign(-0.03, 1e-3, +3e-3);
+  c.plus = fc::testing::signResponse(+0.03, 1e-3, -3e-3);
+  c.minus = fc::testing::signResponse(-0.03, 1e-3, +3e-3);
   c.advance_per_period = 0.01;
   c.advance_angle = 0.0;
   c.heading_drift_per_period = 0.0;
@@ -51,8 +41,8 @@ fc::BinaryCalibration handCalibration() {
 /// Asymmetric yaw rates: equal halves drift by (w+ + w-) T/2 = 0.1 rad per period.
 fc::BinaryCalibration asymmetricCalibration() {
   fc::BinaryCalibration c = handCalibration();
-  c.plus = sign(+0.04, 1.2e-3, -2e-3);
-  c.minus = sign(-0.02, 0.8e-3, +3e-3);
+  c.plus = fc::testing::signResponse(+0.04, 1.2e-3, -2e-3);
+  c.minus = fc::testing::signResponse(-0.02, 0.8e-3, +3e-3);
   c.advance_per_period = 0.012;
   c.advance_angle = 0.1;
   c.heading_drift_per_period = (c.plus.yaw_rate + c.minus.yaw_rate) * c.switch_period / 2;
@@ -148,8 +138,7 @@ void expectContiguous(const fc::SwitchSchedule& s) {
   ASSERT_FALSE(s.intervals.empty());
   EXPECT_DOUBLE_EQ(s.intervals.front().start, 0.0);
   for (size_t i = 1; i < s.intervals.size(); ++i) {
-    EXPECT_NEAR(s.intervals[i].start, s.intervals[i - 1].start + s.intervals[i - 1].duration,
-                1e-9)
+    EXPECT_NEAR(s.intervals[i].start, s.intervals[i - 1].start + s.intervals[i - 1].duration, 1e-9)
         << i;
     EXPECT_NE(s.intervals[i].sign, s.intervals[i - 1].sign) << "equal signs not merged at " << i;
   }
@@ -180,8 +169,7 @@ TEST(SwitchPlanner, StraightLineIsPeriodicSwitching) {
     EXPECT_NEAR(s.intervals[i].duration, expected, 1e-9) << i;
   }
   // Whole number of periods: the last interval is a whole - half.
-  const fc::SwitchSchedule s2 =
-      fc::planSchedule(Path::polyline({{0, 0}, {0.05, 0}}, false), c);
+  const fc::SwitchSchedule s2 = fc::planSchedule(Path::polyline({{0, 0}, {0.05, 0}}, false), c);
   ASSERT_EQ(s2.intervals.size(), 10u);
   EXPECT_NEAR(s2.duration, 50.0, 1e-9);
   // Laps of an open path are ignored.
@@ -321,12 +309,13 @@ void checkCornersOnModel(const Path& path, const fc::BinaryCalibration& c, const
     worst = std::max(worst, d);
     EXPECT_LT(d, tolerance) << "side " << k << " starts " << d * 1e3 << " mm off its line";
   }
-  std::printf("[ planner  ] %s: worst distance of a side's start to its line %.3f mm, "
-              "end-to-end %.3f mm, duration %.1f s\n",
-              label, worst * 1e3,
-              (r.end.p - (path.closed() ? path.at(0).position : path.at(path.length()).position))
-                      .norm() * 1e3,
-              s.duration);
+  std::printf(
+      "[ planner  ] %s: worst distance of a side's start to its line %.3f mm, "
+      "end-to-end %.3f mm, duration %.1f s\n",
+      label, worst * 1e3,
+      (r.end.p - (path.closed() ? path.at(0).position : path.at(path.length()).position)).norm() *
+          1e3,
+      s.duration);
   const Vec2 goal = path.closed() ? path.at(0).position : path.at(path.length()).position;
   EXPECT_LT((r.end.p - goal).norm(), 2 * tolerance) << "the run ends away from the path's end";
 }
@@ -370,9 +359,8 @@ TEST(SwitchPlanner, CornerCutsLandOnTheNextSide) {
                       "rectangle 0.3 x 0.3 left");
   checkCornersOnModel(Path::polyline({{0, 0}, {0.3, 0}, {0.3, -0.2}, {0, -0.2}}, true), c,
                       "rectangle 0.3 x 0.2 right");
-  checkCornersOnModel(
-      Path::polyline({{0, 0}, {0.4, 0}, {0.2, 0.4 * std::sqrt(3.0) / 2}}, true), c,
-      "triangle 0.4 left");
+  checkCornersOnModel(Path::polyline({{0, 0}, {0.4, 0}, {0.2, 0.4 * std::sqrt(3.0) / 2}}, true), c,
+                      "triangle 0.4 left");
   checkCornersOnModel(Path::polyline({{0, 0}, {0.3, 0}, {0.45, 0.15}, {0.6, 0}}, false), c,
                       "open zigzag");
   // A start frame rotated and shifted: same geometry.
@@ -397,10 +385,10 @@ TEST(SwitchPlanner, CornerCutsLandOnTheNextSide) {
 TEST(SwitchPlanner, DISABLED_DriftingRobotCalibratedWithEqualHalvesStaysOnTheRectangle) {
   const fc::BinaryCalibration equal = kinematicCalibration(asymmetricCalibration(), false);
   const fc::BinaryCalibration flown = kinematicCalibration(asymmetricCalibration(), true);
-  std::printf("[ planner  ] drifting model: equal halves advance %.4f m at %.3f rad; drift-free "
-              "halves advance %.4f m at %.3f rad\n",
-              equal.advance_per_period, equal.advance_angle, flown.advance_per_period,
-              flown.advance_angle);
+  std::printf(
+      "[ planner  ] drifting model: equal halves advance %.4f m at %.3f rad; drift-free "
+      "halves advance %.4f m at %.3f rad\n",
+      equal.advance_per_period, equal.advance_angle, flown.advance_per_period, flown.advance_angle);
   checkCornersOnModel(Path::polyline({{0, 0}, {0.4, 0}, {0.4, 0.4}, {0, 0.4}}, true), equal,
                       "asymmetric rectangle 0.4, calibrated with equal halves");
 }
@@ -420,11 +408,11 @@ TEST(SwitchPlanner, DISABLED_CircleScheduleFlownOnTheModelStaysOnTheCircle) {
       State p;
       integrate(p, c.plus, s.intervals[0].duration);
       integrate(p, c.minus, s.intervals[1].duration);
-      std::printf("[ planner  ] circle r = 0.2 %s: a planned period (%.3f s +, %.3f s -) advances "
-                  "%.2f mm at %.3f rad from its start heading; calibrated %.2f mm at %.3f rad\n",
-                  ccw ? "ccw" : "cw", s.intervals[0].duration, s.intervals[1].duration,
-                  p.p.norm() * 1e3, std::atan2(p.p.y(), p.p.x()), c.advance_per_period * 1e3,
-                  c.advance_angle);
+      std::printf(
+          "[ planner  ] circle r = 0.2 %s: a planned period (%.3f s +, %.3f s -) advances "
+          "%.2f mm at %.3f rad from its start heading; calibrated %.2f mm at %.3f rad\n",
+          ccw ? "ccw" : "cw", s.intervals[0].duration, s.intervals[1].duration, p.p.norm() * 1e3,
+          std::atan2(p.p.y(), p.p.x()), c.advance_per_period * 1e3, c.advance_angle);
     }
     State st;
     st.h = fc::periodStartHeading(c, 0.0);
@@ -434,9 +422,10 @@ TEST(SwitchPlanner, DISABLED_CircleScheduleFlownOnTheModelStaysOnTheCircle) {
       integrate(st, iv.sign > 0 ? c.plus : c.minus, iv.duration);
     }
     worst = std::max(worst, circle.project(st.p).distance);
-    std::printf("[ planner  ] circle r = 0.2 %s flown open loop on the model: worst distance "
-                "at a period start %.1f mm, end %.1f mm from the start\n",
-                ccw ? "ccw" : "cw", worst * 1e3, st.p.norm() * 1e3);
+    std::printf(
+        "[ planner  ] circle r = 0.2 %s flown open loop on the model: worst distance "
+        "at a period start %.1f mm, end %.1f mm from the start\n",
+        ccw ? "ccw" : "cw", worst * 1e3, st.p.norm() * 1e3);
     EXPECT_LT(worst, c.advance_per_period) << (ccw ? "ccw" : "cw");
     EXPECT_LT(st.p.norm(), c.advance_per_period) << (ccw ? "ccw" : "cw");
   }
@@ -450,8 +439,7 @@ TEST(SwitchPlanner, CircleUsesUnequalHalves) {
       const fc::SwitchSchedule s = fc::planSchedule(circle, c);
       expectContiguous(s);
       const double turn = (ccw ? 1 : -1) * c.advance_per_period / r;
-      const double eps =
-          (turn - c.heading_drift_per_period) / (c.plus.yaw_rate - c.minus.yaw_rate);
+      const double eps = (turn - c.heading_drift_per_period) / (c.plus.yaw_rate - c.minus.yaw_rate);
       EXPECT_NEAR(s.duration, 2 * M_PI * r / c.advance_per_period * c.switch_period, 1e-8);
       for (size_t i = 0; i + 3 < s.intervals.size(); i += 2) {  // whole periods
         EXPECT_EQ(s.intervals[i].sign, 1);

@@ -1,8 +1,9 @@
 // flagella_follow_path: the interface robot follows a path, headless, with the controller core
 // talking to the core simulator over LCM (memq://, no ROS master). Prints the cross-track
 // error of the true head path against the reference and writes the path as CSV.
-//   flagella_follow_path config/interface_path_planning.yaml \
-//       --calibration config/calibration/interface_path_planning.yaml --path config/paths/square.yaml
+//   flagella_follow_path config/interface_path_planning.yaml
+//       --calibration config/calibration/interface_path_planning.yaml --path
+//       config/paths/square.yaml
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
@@ -29,7 +30,9 @@ int main(int argc, char** argv) {
   app.add_option("--calibration", calibration_path, "calibration YAML (flagella_calibrate)")
       ->required()
       ->check(CLI::ExistingFile);
-  app.add_option("--path", path_path, "path YAML (config/paths)")->required()->check(CLI::ExistingFile);
+  app.add_option("--path", path_path, "path YAML (config/paths)")
+      ->required()
+      ->check(CLI::ExistingFile);
   app.add_option("--mode", mode, "closed_loop or open_loop")
       ->check(CLI::IsMember({"closed_loop", "open_loop"}));
   app.add_option("--set", overrides, "config override a.b=value (repeatable), e.g. a model error");
@@ -42,13 +45,15 @@ int main(int argc, char** argv) {
   app.add_option("--camera-noise", session_options.camera.noise_std, "camera noise std [m]");
   app.add_option("--seed", session_options.imu.seed, "noise seed (IMU; camera uses seed + 1)");
   app.add_option("--lookahead", gains.lookahead, "closed loop: lookahead [m]");
-  app.add_option("--heading-gain", gains.heading_gain, "closed loop: course error share per period");
+  app.add_option("--heading-gain", gains.heading_gain,
+                 "closed loop: course error share per period");
   app.add_option("--csv", csv_path, "write t, true and estimated head position, command as CSV");
   CLI11_PARSE(app, argc, argv);
 
   try {
     session_options.camera.seed = session_options.imu.seed + 1;
-    const flagella::SimulationConfig config = flagella::loadSimulationConfig(config_path, overrides);
+    const flagella::SimulationConfig config =
+        flagella::loadSimulationConfig(config_path, overrides);
     const auto calibration = flagella_control::loadCalibration(calibration_path);
     const auto spec = flagella_control::loadPathSpec(path_path);
     flagella::SimSession session(config, session_options);
@@ -56,7 +61,8 @@ int main(int argc, char** argv) {
     if (mode == "open_loop")
       controller = std::make_unique<flagella_control::ScheduleController>(spec, calibration);
     else
-      controller = std::make_unique<flagella_control::PathFollowingController>(spec, calibration, gains);
+      controller =
+          std::make_unique<flagella_control::PathFollowingController>(spec, calibration, gains);
     flagella_control::LcmHarness harness(session, *controller, options);
 
     flagella_control::TrackingStats stats;
@@ -78,8 +84,8 @@ int main(int argc, char** argv) {
       stats.add(d);
       if (csv) {
         csv << session.time() << "," << p.x() << "," << p.y() << "," << d << ","
-            << session.health().motor_applied << "," << status.progress << ","
-            << status.cross_track << "," << status.heading_error << "\n";
+            << session.health().motor_applied << "," << status.progress << "," << status.cross_track
+            << "," << status.heading_error << "\n";
       }
       if (status.mode_finished) {
         finished = true;
@@ -92,10 +98,10 @@ int main(int argc, char** argv) {
                 controller->name(), spec.description.c_str(),
                 finished ? "path complete" : "NOT complete", report.sim_time, report.wall_seconds,
                 report.sim_time / report.wall_seconds);
-    std::printf("cross-track error of the true head path: max %.1f mm (%.3f l), RMS %.1f mm "
-                "(%.3f l), %ld samples\n",
-                1e3 * stats.max_abs, stats.max_abs / l, 1e3 * stats.rms(), stats.rms() / l,
-                stats.samples);
+    std::printf(
+        "cross-track error of the true head path: max %.1f mm (%.3f l), RMS %.1f mm "
+        "(%.3f l), %ld samples\n",
+        1e3 * stats.max_abs, stats.max_abs / l, 1e3 * stats.rms(), stats.rms() / l, stats.samples);
     return report.halted ? 3 : finished ? 0 : 4;
   } catch (const flagella::ConfigError& e) {
     std::cerr << "configuration error: " << e.what() << "\n";

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 #include <vector>
 
 #include "flagella_control/heading.h"
@@ -13,16 +14,21 @@ namespace flagella_control {
 
 using Vec2 = Eigen::Vector2d;
 
+/// Unit vector at azimuth `angle` [rad].
+inline Vec2 unitVector(double angle) { return Vec2(std::cos(angle), std::sin(angle)); }
+/// z component of the 2-D cross product: > 0 when b is counter-clockwise from a.
+inline double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
 struct PathElement {
   enum class Kind { Line, Arc } kind = Kind::Line;
   Vec2 start = Vec2::Zero();
-  Vec2 end = Vec2::Zero();       ///< Line only (Arc: derived)
-  Vec2 center = Vec2::Zero();    ///< Arc only
-  double radius = 0.0;           ///< Arc only [m]
-  double start_angle = 0.0;      ///< Arc only: polar angle of `start` about `center` [rad]
-  double sweep = 0.0;            ///< Arc only: signed swept angle, CCW positive [rad]
-  double length = 0.0;           ///< [m]
-  double s_start = 0.0;          ///< arclength at the element's start [m]
+  Vec2 end = Vec2::Zero();     ///< Line only (Arc: derived)
+  Vec2 center = Vec2::Zero();  ///< Arc only
+  double radius = 0.0;         ///< Arc only [m]
+  double start_angle = 0.0;    ///< Arc only: polar angle of `start` about `center` [rad]
+  double sweep = 0.0;          ///< Arc only: signed swept angle, CCW positive [rad]
+  double length = 0.0;         ///< [m]
+  double s_start = 0.0;        ///< arclength at the element's start [m]
 };
 
 /// A point on the path.

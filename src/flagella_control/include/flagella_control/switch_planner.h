@@ -23,8 +23,14 @@ struct SwitchInterval {
 struct SwitchSchedule {
   std::vector<SwitchInterval> intervals;  ///< contiguous, in time order
   double duration = 0.0;                  ///< end of the last interval [s]
-  /// Sign at time t from the start (0 after the end). O(log n), allocation-free.
-  int signAt(double t) const;
+  /// The interval containing time t from the start; nullptr before 0 and from the end on.
+  /// O(log n), allocation-free.
+  const SwitchInterval* intervalAt(double t) const;
+  /// Sign at time t from the start (0 outside the schedule).
+  int signAt(double t) const {
+    const SwitchInterval* interval = intervalAt(t);
+    return interval ? interval->sign : 0;
+  }
 };
 
 /// Half-period offset epsilon that makes a switching period of length T turn by `turn` [rad]:
