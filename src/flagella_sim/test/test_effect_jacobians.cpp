@@ -4,7 +4,10 @@
 
 #include <random>
 
+#include "flagella_sim/effects/com_offset.h"
 #include "flagella_sim/effects/constant_load.h"
+#include "flagella_sim/effects/granular_jamming.h"
+#include "flagella_sim/effects/granular_yield.h"
 #include "flagella_sim/effects/gravity.h"
 #include "flagella_sim/effects/head_restraint.h"
 #include "flagella_sim/effects/interface_lateral_force.h"
@@ -119,6 +122,32 @@ TEST(EffectJacobians, ConstantForcesHaveZeroJacobian) {
   ConstantLoad c;
   c.addNodeForce(1, Vec3(1, 2, 3));
   expectJacobianMatchesFiniteDifferences(c, 8);
+}
+
+TEST(EffectJacobians, GranularYield) {
+  // Head speeds in the fixture are ~0.1 m/s: v_s = 1e-2 m/s (the top of its range) keeps the
+  // force off saturation, v_s = 1e-6 m/s is the saturated default.
+  for (double v_s : {1e-2, 1e-6}) {
+    GranularYield e;
+    e.parameters().set("yield_force", 2e-3);
+    e.parameters().set("velocity_scale", v_s);
+    for (unsigned s : {11u, 12u}) expectJacobianMatchesFiniteDifferences(e, s);
+  }
+}
+
+TEST(EffectJacobians, GranularJammingWithResistance) {
+  GranularJamming e;
+  e.parameters().set("stiffness", 5.0);
+  e.parameters().set("velocity_scale", 5e-3);
+  e.setPushedDistance(4e-4);  // s > 0: resistance k_j s = 2 mN
+  ASSERT_GT(e.resistance(), 0.0);
+  for (unsigned s : {13u, 14u}) expectJacobianMatchesFiniteDifferences(e, s);
+}
+
+TEST(EffectJacobians, ComOffsetHasZeroJacobian) {
+  ComOffset e(0.05);
+  e.parameters().set("offset", 3e-3);
+  expectJacobianMatchesFiniteDifferences(e, 15);
 }
 
 TEST(EffectJacobians, IntegratedLateralCoefficientMatchesDirectQuadrature) {

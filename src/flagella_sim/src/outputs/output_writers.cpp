@@ -22,7 +22,7 @@ std::ofstream openOrThrow(const std::string& path) {
 std::string trajectoryCsvHeader() {
   return "time,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz,head_axis_x,head_axis_y,"
          "head_axis_z,omega_h,omega_t,omega_T,speed,yaw,yaw_rate,head_angle,tail_angle,"
-         "newton_iterations,subdivided_steps";
+         "newton_iterations,subdivided_steps,omega_motor";
 }
 
 void writeTrajectoryCsv(const std::string& path, const std::vector<TrajectorySample>& samples) {
@@ -35,7 +35,7 @@ void writeTrajectoryCsv(const std::string& path, const std::vector<TrajectorySam
         << "," << s.head_axis.x() << "," << s.head_axis.y() << "," << s.head_axis.z() << ","
         << s.omega_h << "," << s.omega_t << "," << s.omega_T << "," << s.head_velocity.norm() << ","
         << s.yaw << "," << s.yaw_rate << "," << s.head_angle << "," << s.tail_angle << ","
-        << s.newton_iterations << "," << s.subdivided_steps << "\n";
+        << s.newton_iterations << "," << s.subdivided_steps << "," << s.omega_motor << "\n";
   }
 }
 
@@ -58,6 +58,7 @@ std::string summaryJson(const SimulationConfig& c, const SummaryMetrics& m, doub
   j["steady_window_s"] = {m.window_start, m.window_end};
   j["omega_T_rpm"] = c.motor.omega * kRadPerSecToRpm;
   j["omega_T_mean_abs_rad_s"] = m.omega_T_mean;
+  j["omega_motor_mean_abs_rad_s"] = m.omega_motor_mean;
   j["omega_h_rad_s"] = m.omega_h;
   j["omega_t_rad_s"] = m.omega_t;
   j["omega_h_rpm"] = m.omega_h * kRadPerSecToRpm;

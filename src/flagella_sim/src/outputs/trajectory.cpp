@@ -40,7 +40,7 @@ SummaryMetrics summarize(const std::vector<TrajectorySample>& samples, const Sum
   const Vec3 e2 = up.cross(e1);
   std::vector<double> t, forward, yaw;
   std::vector<Eigen::Vector2d> horizontal;
-  double angle_sum = 0.0, speed_sum = 0.0, omega_T_sum = 0.0;
+  double angle_sum = 0.0, speed_sum = 0.0, omega_T_sum = 0.0, omega_motor_sum = 0.0;
   int angle_count = 0;
   for (size_t i = first; i < samples.size(); ++i) {
     const TrajectorySample& s = samples[i];
@@ -53,6 +53,7 @@ SummaryMetrics summarize(const std::vector<TrajectorySample>& samples, const Sum
     const Vec3 v_h = s.head_velocity - s.head_velocity.dot(up) * up;
     speed_sum += s.head_velocity.norm();
     omega_T_sum += std::abs(s.omega_T);
+    omega_motor_sum += std::abs(s.omega_motor);
     if (v_h.norm() > kMinPathSpeed && axis_h.norm() > kMinHorizontalAxis) {
       angle_sum += std::acos(std::clamp((-axis_h.normalized()).dot(v_h.normalized()), -1.0, 1.0));
       ++angle_count;
@@ -61,6 +62,7 @@ SummaryMetrics summarize(const std::vector<TrajectorySample>& samples, const Sum
   const double count = static_cast<double>(t.size());
   m.path_speed = speed_sum / count;
   m.omega_T_mean = omega_T_sum / count;
+  m.omega_motor_mean = omega_motor_sum / count;
   m.axis_path_angle = angle_count > 0 ? angle_sum / angle_count : 0.0;
   m.net_speed = (b.head_position - a.head_position).norm() / span;
   m.speed = fitLine(t, forward).slope;

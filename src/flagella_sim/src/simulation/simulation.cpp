@@ -45,6 +45,7 @@ Simulation::Simulation(const SimulationConfig& config)
 StepReport Simulation::step() {
   const StepReport r = stepper_.step(state_, config_.dt, *motor_);
   last_omega_ = motor_->omega(state_.time);
+  last_motor_speed_ = stepper_.lastMotorSpeed();
   newton_iterations_ += r.newton_iterations;
   subdivided_steps_ += r.substeps > 1;
   return r;
@@ -61,7 +62,7 @@ void Simulation::run(double duration, const std::function<void(double)>& progres
         if (progress) progress((state_.time - t_start) / duration);
       }
     }
-  } catch (const SolverFailure&) {
+  } catch (const std::runtime_error&) {  // SolverFailure, or an effect out of its domain
     recordFinalSample();
     throw;
   }
@@ -85,6 +86,7 @@ TrajectorySample Simulation::sample() const {
   s.omega_h = state_.qdot(net.thetaIndex(parts.head_edge));
   s.omega_t = state_.qdot(net.thetaIndex(parts.shaft_edge));
   s.omega_T = last_omega_;
+  s.omega_motor = last_motor_speed_;
   // Yaw of the forward direction -t^0 about the vertical, and its exact rate from the
   // velocities of x_0, x_1: d(t)/dt = (I - t t^T)(v_1 - v_0)/|e^0|.
   const Vec3& up = stepper_.medium().up;

@@ -144,8 +144,10 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
 }  // namespace
 
 const std::vector<std::string>& knownEffectNames() {
-  static const std::vector<std::string> names{"rft", "stokes_head", "interface_lateral_force",
-                                              "gravity", "head_restraint"};
+  static const std::vector<std::string> names{
+      "rft", "stokes_head", "interface_lateral_force", "gravity", "head_restraint",
+      // model extensions for the identification tool
+      "granular_yield", "granular_jamming", "com_offset", "viscosity_drift", "dc_motor"};
   return names;
 }
 

@@ -168,18 +168,31 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt,
 StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, const MotorCommand& motor,
                                           int depth) {
   RodState trial = state;
-  // spec 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
-  const double omega = motor.omega(state.time + dt);
+  const double t_next = state.time + dt;
+  // Effect hooks of this (sub)step: viscosity factor (product) and motor speed (chained).
+  double viscosity_factor = 1.0;
+  for (const EffectPtr& e : effects_) viscosity_factor *= e->viscosityFactor(t_next);
+  medium_.setViscosityFactor(viscosity_factor);
+  const double command = motor.omega(t_next);
+  double omega = command;
+  if (std::isfinite(command)) {
+    const MotorLoad load = motorLoad(state, command, t_next);
+    for (const EffectPtr& e : effects_) omega = e->motorSpeed(omega, load);
+  }
   if (!std::isfinite(omega)) {
     std::ostringstream msg;
-    msg << "motor command is not finite (" << omega << ") at t = " << state.time + dt << " s";
+    msg << "motor " << (std::isfinite(command) ? "speed" : "command") << " is not finite (" << omega
+        << ") at t = " << t_next << " s";
     throw SolverFailure(msg.str());
   }
+  // spec 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
   const double offset = state.motor_twist_offset + omega * dt;
   const Attempt a = solveStep(trial, dt, offset);
   if (a.converged) {
-    trial.time = state.time + dt;
+    trial.time = t_next;
     trial.motor_twist_offset = offset;
+    for (const EffectPtr& e : effects_) e->acceptStep(net_, state, trial);
+    last_motor_speed_ = omega;
     state = std::move(trial);
     return {a.iterations, 1, a.residual};
   }
@@ -204,17 +217,50 @@ StepReport ImplicitStepper::step(RodState& state, double dt, const MotorCommand&
     msg << "time step must be > 0 and finite, got " << dt;
     throw SolverFailure(msg.str());
   }
-  try {
-    return stepRecursive(state, dt, motor, 0);  // assigns state only when the whole step succeeded
-  } catch (const SolverFailure& e) {
-    // Leave the network as it was before the rejected step (motor natural twist included).
+  // What a failed step must put back besides `state`: sub-steps accepted before the failure
+  // have already advanced the motor twist, the effects' internal state and the medium.
+  std::vector<std::vector<double>> effect_states;
+  effect_states.reserve(effects_.size());
+  for (const EffectPtr& e : effects_) effect_states.push_back(e->internalState());
+  const double viscosity_factor = medium_.viscosityFactor();
+  const double motor_speed = last_motor_speed_;
+  auto restore = [&] {
     if (net_.parts.motor_spring >= 0)
       net_.bend_twist_springs[net_.parts.motor_spring].tau_bar =
           motor_tau_bar0_ + state.motor_twist_offset;
+    for (size_t i = 0; i < effects_.size(); ++i) effects_[i]->setInternalState(effect_states[i]);
+    medium_.setViscosityFactor(viscosity_factor);
+    last_motor_speed_ = motor_speed;
+  };
+  try {
+    return stepRecursive(state, dt, motor, 0);  // assigns state only when the whole step succeeded
+  } catch (const SolverFailure& e) {
+    restore();
     std::ostringstream msg;
     msg << "step from t = " << state.time << " s with dt = " << dt << " s failed: " << e.what();
     throw SolverFailure(msg.str());
+  } catch (...) {  // e.g. an effect's parameters out of their domain at this time
+    restore();
+    throw;
   }
+}
+
+MotorLoad ImplicitStepper::motorLoad(const RodState& state, double omega_cmd,
+                                     double time_next) const {
+  MotorLoad load;
+  load.time = time_next;
+  const int index = net_.parts.motor_spring;
+  if (index < 0) return load;
+  BendTwistSpring spring = net_.bend_twist_springs[index];
+  spring.tau_bar = motor_tau_bar0_ + state.motor_twist_offset;  // natural twist at t_k
+  const SpringEnergyTerms terms =
+      bendTwistTerms(springGeometry(net_, spring, state.q, state.frames, index), spring, false);
+  const SpringDofMap map = springDofMap(net_, spring);
+  const int head_theta = net_.thetaIndex(net_.parts.head_edge);
+  for (int a = 9; a < 11; ++a)  // the spring's local twist DOFs (spec 1.6)
+    if (map.index[a] == head_theta) load.head_moment -= map.sign[a] * terms.gradient(a);
+  load.torque = (omega_cmd >= 0.0 ? -1.0 : 1.0) * load.head_moment;  // along the command
+  return load;
 }
 
 }  // namespace flagella

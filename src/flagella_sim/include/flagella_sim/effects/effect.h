@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/types.h"
@@ -31,6 +32,17 @@ struct EffectContext {
   }
 };
 
+/// The motor's load at the start of a step, for effects that shape the applied motor speed
+/// (spec 1.9). One-step lag: it is evaluated at q(t_k), so the speed of the step t_k -> t_{k+1}
+/// does not depend on the unknown q(t_{k+1}).
+struct MotorLoad {
+  double head_moment = 0.0;  ///< generalised force of the motor spring alone on theta^0 [N m]
+  /// Load torque along the sign of the command, -sign(omega_cmd) head_moment [N m]: positive
+  /// when the motor works against the head drag (sign(0) = +1).
+  double torque = 0.0;
+  double time = 0.0;  ///< t_{k+1}
+};
+
 /// Receives dF/dq entries; the stepper subtracts them from the Newton Jacobian.
 class JacobianSink {
  public:
@@ -55,6 +67,28 @@ class Effect {
   /// Adds the generalised external force F(q, (q - q_k)/dt) to `force` and, when `jacobian`
   /// is non-null, dF/dq. The sequence of Jacobian entries must not depend on the values.
   virtual void addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const = 0;
+
+  // Optional hooks; the defaults do nothing, so an effect only overrides what it models.
+  // Composition when several effects use the same hook: the stepper multiplies the viscosity
+  // factors, and chains motorSpeed in the order the effects are listed (each scales the speed
+  // the previous one returned, i.e. the product of their speed factors).
+
+  /// Multiplier on the medium's configured viscosity during the (sub)step ending at `time`
+  /// (t_{k+1}). The stepper sets the product over all effects with Medium::setViscosityFactor
+  /// before every (sub)step, so every effect reading ctx.medium.viscosity() sees it.
+  virtual double viscosityFactor(double /*time*/) const { return 1.0; }
+  /// Motor speed applied to the natural twist (spec 1.9) during the (sub)step ending at
+  /// load.time, given the speed `omega` requested upstream (the command, or the previous
+  /// effect's result) [rad/s].
+  virtual double motorSpeed(double omega, const MotorLoad& /*load*/) const { return omega; }
+  /// Called after every accepted (sub)step with the states at its start and end: the place to
+  /// update internal state (e.g. hysteresis). Not called for rejected attempts.
+  virtual void acceptStep(const RodNetwork& /*net*/, const RodState& /*start*/,
+                          const RodState& /*end*/) {}
+  /// Internal state changed by acceptStep, saved by the stepper before a step and restored if
+  /// the step fails, so a failed step leaves the effect as it was.
+  virtual std::vector<double> internalState() const { return {}; }
+  virtual void setInternalState(const std::vector<double>& /*state*/) {}
 
  protected:
   ParameterSet params_;

@@ -20,6 +20,8 @@ struct TrajectorySample {
   double omega_h = 0.0;                ///< signed theta_dot^0 [rad/s]
   double omega_t = 0.0;                ///< signed theta_dot^1 [rad/s]
   double omega_T = 0.0;                ///< motor command [rad/s]
+  double omega_motor = 0.0;  ///< motor speed applied to the natural twist [rad/s] (= omega_T
+                             ///< unless an effect such as dc_motor modifies it)
   Vec3 head_velocity = Vec3::Zero();
   double yaw = 0.0;  ///< azimuth of the forward direction (-t^0) about the world vertical [rad]
   double yaw_rate = 0.0;       ///< its instantaneous rate [rad/s] (spec 7.1 omega_yr)
@@ -34,10 +36,11 @@ struct SummaryMetrics {
   double omega_h = 0.0;  ///< |head spin| [rad/s] from the angle turned in the window
   double omega_t = 0.0;  ///< |tail spin| [rad/s]
   double omega_h_signed = 0.0, omega_t_signed = 0.0;
-  double omega_T_mean = 0.0;   ///< mean |motor command| [rad/s]
-  double speed = 0.0;          ///< v: slope of forward displacement along the initial axis [m/s]
-  double net_speed = 0.0;      ///< |net displacement| / window length [m/s]
-  double path_speed = 0.0;     ///< mean |v_x1| [m/s]
+  double omega_T_mean = 0.0;      ///< mean |motor command| [rad/s]
+  double omega_motor_mean = 0.0;  ///< mean |applied motor speed| [rad/s]
+  double speed = 0.0;             ///< v: slope of forward displacement along the initial axis [m/s]
+  double net_speed = 0.0;         ///< |net displacement| / window length [m/s]
+  double path_speed = 0.0;        ///< mean |v_x1| [m/s]
   double yaw_rate = 0.0;       ///< omega_yr: d(psi)/dt of the head axis about the vertical [rad/s]
   double circle_radius = 0.0;  ///< R_yr: least-squares circle of the horizontal x_1 path [m]
   bool circle_valid = false;

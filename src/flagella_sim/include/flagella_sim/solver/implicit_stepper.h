@@ -40,8 +40,19 @@ class ImplicitStepper {
   RodState initialState() const;
 
   /// Advances state by dt with the motor speed from `motor`. Throws SolverFailure if the
-  /// step cannot be completed even after subdivision; state is then unchanged.
+  /// step cannot be completed even after subdivision; state is then unchanged (and so are the
+  /// network's motor twist and the effects' internal state, whatever the exception).
+  /// Before every (sub)step the effects' hooks set the medium's viscosity factor and shape the
+  /// motor speed (Effect::viscosityFactor, Effect::motorSpeed); after every accepted (sub)step
+  /// Effect::acceptStep is called.
   StepReport step(RodState& state, double dt, const MotorCommand& motor);
+
+  /// The motor's load at `state` (the start of a step) for a command `omega_cmd` (spec 1.9):
+  /// the motor spring's generalised force on theta^0, with the natural twist of that state.
+  MotorLoad motorLoad(const RodState& state, double omega_cmd, double time_next) const;
+  /// Motor speed applied to the natural twist in the last accepted (sub)step [rad/s]: the
+  /// command unless an effect (dc_motor) modifies it.
+  double lastMotorSpeed() const { return last_motor_speed_; }
 
   const RodNetwork& network() const { return net_; }
   RodNetwork& network() { return net_; }
@@ -75,6 +86,7 @@ class ImplicitStepper {
   Medium medium_;
   NewtonOptions options_;
   double motor_tau_bar0_ = 0.0;
+  double last_motor_speed_ = 0.0;
   bool any_fixed_ = false;
   SparseAssembler assembler_;
   VecX residual_, external_;

@@ -1,0 +1,46 @@
+// The hidden-effect cases the tests and the detection benchmark draw: which effect is hidden
+// (one, two, none, or one outside the candidate list), in what kind of data, at a strength
+// drawn with a seed from a realistic range for the design-1 granular robot
+// (config/identification/granular_design1_coarse.yaml). The truth's baseline parameters are
+// also drawn (viscosity, C_t, C_r within x0.8-1.25), so every case needs a calibration.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "flagella_identify/data_io.h"
+#include "flagella_identify/evaluation.h"
+
+namespace flagella {
+namespace identify {
+
+struct DiscoveryCase {
+  std::string name;                 ///< e.g. "granular_yield", "null_table", "unknown_ripple"
+  std::vector<std::string> hidden;  ///< candidate effects in the truth (empty: none or unknown)
+  bool unknown = false;             ///< an effect outside the candidate list is hidden
+  bool table = true;                ///< steady-state table (true) or time series (false)
+};
+
+const std::vector<DiscoveryCase>& discoveryCases();
+const DiscoveryCase& discoveryCaseByName(const std::string& name);
+
+struct GeneratedCase {
+  MeasuredData data;
+  std::map<std::string, double> truth;  ///< every drawn truth value, by parameter name
+  std::string description;
+};
+
+/// Draws the truth and the noise with `seed` and generates the data set.
+GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
+                           const std::string& baseline_source, std::uint64_t seed,
+                           const EvaluatorOptions& options = {});
+
+/// The baseline parameters the cases perturb and the tool fits.
+const std::vector<std::string>& caseFreeParameters();
+
+}  // namespace identify
+}  // namespace flagella

@@ -1,0 +1,93 @@
+// Runs a model on the experiments of a data set and returns normalised residuals
+// (model - data)/sigma for the training part or the held-out part, with where each residual
+// comes from (the diagnosis reads those).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "flagella_identify/data_io.h"
+#include "flagella_identify/model.h"
+
+namespace flagella {
+namespace identify {
+
+enum class Part { kTrain, kHeldOut, kAll };
+
+/// Which experiments train the model and which judge it.
+struct Split {
+  std::vector<std::vector<bool>> table_row_held_out;  ///< [table][row]
+  std::vector<double> series_split_time;  ///< run time from which a series is held out [s]
+};
+
+/// Held-out every `stride`-th row of each table in order of |omega_T| (so the held-out rows
+/// span the speed range), and the last `held_out_fraction` of each time series.
+Split makeSplit(const MeasuredData& data, int stride = 3, double held_out_fraction = 0.4);
+
+/// Where one residual comes from.
+struct ResidualPoint {
+  std::string output;  ///< v, omega_h, omega_t, omega_yr, R_yr | x, y, z | axis_x.. | head_turns,
+                       ///< tail_turns
+  bool from_series = false;
+  int source = 0;             ///< table or series index
+  int row = 0;                ///< table row index, or sample index in the series
+  double omega_T = 0.0;       ///< commanded motor speed there [rad/s]
+  double session_time = 0.0;  ///< time in the session [s] (NaN if unknown)
+  double run_time = 0.0;      ///< time in the run [s] (series), 0 for tables
+  double data = 0.0, model = 0.0, sigma = 1.0;
+  double z() const { return (model - data) / sigma; }
+};
+
+struct Evaluation {
+  bool ok = true;
+  std::string failure;  ///< why the simulation failed (Newton, config), if !ok
+  std::vector<ResidualPoint> points;
+};
+
+struct EvaluatorOptions {
+  int jobs = 1;                    ///< simulations run in parallel
+  int max_series_points = 240;     ///< residual samples per series (evenly spaced)
+  double solver_tolerance = 1e-7;  ///< Newton residual tolerance during identification
+};
+
+class Evaluator {
+ public:
+  Evaluator(const MeasuredData& data, const Split& split, EvaluatorOptions options = {});
+
+  Evaluation evaluate(const Model& model, const std::vector<double>& values, Part part) const;
+  /// Many value vectors at once (the finite-difference Jacobian), simulations in parallel.
+  std::vector<Evaluation> evaluateMany(const Model& model,
+                                       const std::vector<std::vector<double>>& values,
+                                       Part part) const;
+  const MeasuredData& data() const { return data_; }
+  const Split& split() const { return split_; }
+  const EvaluatorOptions& options() const { return options_; }
+
+  /// Simulated series (every sample time) for plotting: time, head position, axis, turns.
+  struct SeriesTrace {
+    std::vector<double> t;
+    std::vector<Vec3> position, axis;
+    std::vector<double> head_turns, tail_turns;
+  };
+  SeriesTrace traceSeries(const Model& model, const std::vector<double>& values, int series,
+                          double t_end = 1e300) const;
+
+ private:
+  struct Job {
+    int model_index;
+    bool is_series;
+    int source, row;
+  };
+  void runJob(const Model& model, const std::vector<double>& values, const Job& job, Part part,
+              Evaluation& out) const;
+
+  MeasuredData data_;
+  Split split_;
+  EvaluatorOptions options_;
+};
+
+/// Sum of z^2 and count.
+double chiSquare(const Evaluation& e);
+
+}  // namespace identify
+}  // namespace flagella

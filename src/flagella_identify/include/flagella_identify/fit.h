@@ -1,0 +1,42 @@
+// Least-squares fit of a model's parameters to the training part of a data set (Ceres
+// Levenberg-Marquardt; every residual evaluation runs the simulations), with the covariance
+// of the estimate from the Jacobian at the optimum.
+#pragma once
+
+#include <Eigen/Dense>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "flagella_identify/evaluation.h"
+
+namespace flagella {
+namespace identify {
+
+struct FitOptions {
+  int max_iterations = 25;
+  double function_tolerance = 1e-4;  ///< relative change of the cost that ends the fit
+  double log_step = 1e-3;            ///< finite-difference step of log-scale parameters
+  double linear_step = 1e-5;         ///< ... of linear parameters, as a fraction of their range
+  /// Called with a line of progress text.
+  std::function<void(const std::string&)> progress;
+};
+
+struct FitResult {
+  bool ok = false;
+  std::string message;
+  std::vector<double> values;
+  std::vector<double> sigma;  ///< one standard deviation per parameter (NaN: not identifiable)
+  double chi_square = 0.0;    ///< training sum of squared normalised residuals
+  int residual_count = 0;
+  int evaluations = 0;  ///< model evaluations (each one simulates the training set)
+  int iterations = 0;
+};
+
+/// Fits the parameters whose `free` flag is set (all if empty), starting from model values.
+/// The model's values are set to the result.
+FitResult fitModel(Model& model, const Evaluator& evaluator, const FitOptions& options,
+                   const std::vector<bool>& free = {});
+
+}  // namespace identify
+}  // namespace flagella

@@ -1,0 +1,100 @@
+// The whole discovery pipeline: calibrate the baseline on the training split, diagnose the
+// held-out residual, fit every identifiable candidate effect together with the baseline
+// parameters, select by held-out error with a parsimony penalty and a significance test
+// against the measurement noise, and name a cause only with that evidence.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "flagella_identify/diagnosis.h"
+#include "flagella_identify/fit.h"
+
+namespace flagella {
+namespace identify {
+
+struct IdentifyOptions {
+  std::vector<std::string> free;        ///< baseline config paths to fit
+  std::vector<std::string> candidates;  ///< candidate names; empty = the standard list
+  int max_effects = 2;                  ///< largest number of effects named together
+  EvaluatorOptions evaluator;
+  FitOptions fit;
+  std::function<void(const std::string&)> progress;
+};
+
+/// One fitted model (the baseline, one candidate, or a pair) judged on the held-out data.
+struct ModelOutcome {
+  std::string label;                 ///< "baseline", "granular_yield", "dc_motor + com_offset"
+  std::vector<std::string> effects;  ///< candidate names in the model
+  bool fitted = false;
+  std::string note;  ///< why it was not fitted, or how the fit ended
+  std::vector<FitParameter> parameters;
+  int extra_parameters = 0;  ///< parameters beyond the baseline's
+  double train_chi_square = 0.0;
+  int train_count = 0;
+  double held_out_chi_square = 0.0;
+  int held_out_count = 0;
+  double held_out_rms_z = 0.0;
+  double noise_z = 0.0;  ///< significance of the remaining held-out residual
+  /// Share of the calibrated baseline's held-out excess over the noise (chi^2 - N) removed.
+  double explained = 0.0;
+  double improvement = 0.0;  ///< held-out chi^2 drop against the reference model
+  double penalty = 0.0;      ///< parsimony: extra parameters x ln(held-out count)
+  double critical = 0.0;     ///< chi-square critical value (p = 1e-3) for the extras
+  bool significant = false;  ///< improvement - penalty > critical
+  int evaluations = 0;
+};
+
+enum class Verdict { kNoDiscrepancy, kNamedCause, kUnexplained };
+std::string verdictText(Verdict v);
+
+struct IdentifyResult {
+  Verdict verdict = Verdict::kNoDiscrepancy;
+  std::vector<std::string> named;  ///< the named causes (empty unless kNamedCause)
+  std::string summary;             ///< one paragraph: the decision and the evidence
+  ModelOutcome baseline;
+  Diagnosis baseline_diagnosis;            ///< calibrated baseline on the held-out data
+  std::vector<ModelOutcome> candidates;    ///< single candidates, fitted or skipped
+  std::vector<ModelOutcome> combinations;  ///< pairs tried when one effect was not enough
+  std::optional<ModelOutcome> chosen;      ///< the extended model (named or best partial)
+  Diagnosis chosen_diagnosis;
+  double gain = 0.0;  ///< 1 - held-out RMS z after / before (0 when nothing is named)
+  int total_evaluations = 0;
+};
+
+class Identification {
+ public:
+  Identification(MeasuredData data, YAML::Node baseline, std::string baseline_source,
+                 IdentifyOptions options);
+  IdentifyResult run();
+
+  const Evaluator& evaluator() const { return evaluator_; }
+  /// The model of an outcome (baseline or extended) with its fitted values.
+  Model modelOf(const ModelOutcome& outcome) const;
+
+ private:
+  ModelOutcome fitModelOutcome(const std::vector<const Candidate*>& effects,
+                               const ModelOutcome& reference);
+  void say(const std::string& line) const;
+
+  MeasuredData data_;
+  YAML::Node baseline_;
+  std::string source_;
+  IdentifyOptions options_;
+  Evaluator evaluator_;
+  double baseline_excess_ = 0.0;  ///< held-out chi^2 - N of the calibrated baseline
+};
+
+/// A model explains the discrepancy when it removes at least this share of the baseline's
+/// held-out excess chi^2 (a cause is named only then).
+constexpr double kExplainedShare = 0.9;
+
+/// Chi-square critical value at p = 1e-3 for k degrees of freedom (k >= 1).
+double chiSquareCritical(int k);
+
+}  // namespace identify
+}  // namespace flagella

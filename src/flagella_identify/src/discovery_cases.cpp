@@ -1,0 +1,146 @@
+#include "flagella_identify/discovery_cases.h"
+
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "flagella_identify/dataset_generator.h"
+#include "flagella_identify/model.h"
+
+namespace flagella {
+namespace identify {
+
+namespace {
+
+/// Realistic strength ranges for the design-1 robot (README "Model discovery"): low end
+/// clearly above the noise of the plans below, high end still a plausible robot.
+struct Range {
+  std::string variable;
+  double low, high;
+  bool random_sign;
+};
+
+std::vector<Range> rangesOf(const std::string& effect, std::mt19937_64& rng) {
+  if (effect == "granular_yield") return {{"granular_yield.yield_force", 3e-4, 9e-4, false}};
+  if (effect == "dc_motor")  // 10-30 % speed loss at 250 rpm (load about 1.3e-3 N m)
+    return {{"dc_motor.inverse_stall_torque", 80.0, 230.0, false}};
+  if (effect == "viscosity_drift") return {{"viscosity_drift.rate", 0.04, 0.12, true}};
+  if (effect == "granular_jamming")
+    return {{"granular_jamming.release_force", 6e-4, 1.1e-3, false},
+            {"granular_jamming.stiffness", 0.8, 3.0, false}};
+  if (effect == "com_offset") return {{"com_offset.offset", 1e-3, 4e-3, true}};
+  if (effect == "interface_lateral_force")
+    return {{"interface_lateral_force.C_yr", 2e-3, 8e-3, true}};
+  if (effect == "fabrication_asymmetry") {
+    // one tail shorter, or one tail stiffer
+    if (std::uniform_int_distribution<int>(0, 1)(rng) == 0)
+      return {{"fabrication_asymmetry.length_ratio", 0.7, 0.85, false},
+              {"fabrication_asymmetry.stiffness_ratio", 1.0, 1.0, false}};
+    return {{"fabrication_asymmetry.length_ratio", 1.0, 1.0, false},
+            {"fabrication_asymmetry.stiffness_ratio", 1.8, 3.0, false}};
+  }
+  throw std::invalid_argument("no strength range for effect '" + effect + "'");
+}
+
+double logUniform(std::mt19937_64& rng, double low, double high) {
+  return std::exp(std::uniform_real_distribution<double>(std::log(low), std::log(high))(rng));
+}
+
+TablePlan tablePlan() {
+  TablePlan p;
+  p.omega_rpm = {40, 70, 100, 130, 160, 200, 250};
+  p.n_tails = {2, 3};
+  p.settle_time = 5.0;
+  p.window = 10.0;
+  p.session_hours = 4.0;
+  p.v_noise = 3e-6;      // 0.003 mm/s: video tracking over the window
+  p.omega_noise = 0.05;  // 0.48 rpm: counted turns over a minute-long trial
+  return p;
+}
+
+SeriesPlan seriesPlan() {
+  SeriesPlan p;
+  p.command_rpm = {{0.0, 120.0}, {30.0, 240.0}, {60.0, -180.0}};
+  p.duration = 90.0;
+  p.sample_interval = 0.5;
+  p.position_noise = 2e-4;  // 0.2 mm video tracking
+  p.orientation_noise = 0.01;
+  p.turns_noise = 0.1;
+  return p;
+}
+
+}  // namespace
+
+const std::vector<std::string>& caseFreeParameters() {
+  static const std::vector<std::string> free = {"medium.viscosity", "effects.stokes_head.C_t",
+                                                "effects.stokes_head.C_r"};
+  return free;
+}
+
+const std::vector<DiscoveryCase>& discoveryCases() {
+  static const std::vector<DiscoveryCase> cases = {
+      {"null_table", {}, false, true},
+      {"null_series", {}, false, false},
+      {"granular_yield", {"granular_yield"}, false, true},
+      {"dc_motor", {"dc_motor"}, false, true},
+      {"viscosity_drift", {"viscosity_drift"}, false, true},
+      {"granular_yield+dc_motor", {"granular_yield", "dc_motor"}, false, true},
+      {"granular_jamming", {"granular_jamming"}, false, false},
+      {"com_offset", {"com_offset"}, false, false},
+      {"fabrication_asymmetry", {"fabrication_asymmetry"}, false, false},
+      {"interface_lateral_force", {"interface_lateral_force"}, false, false},
+      {"unknown_ripple", {}, true, false},
+  };
+  return cases;
+}
+
+const DiscoveryCase& discoveryCaseByName(const std::string& name) {
+  for (const DiscoveryCase& c : discoveryCases())
+    if (c.name == name) return c;
+  throw std::invalid_argument("unknown discovery case '" + name + "'");
+}
+
+GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
+                           const std::string& baseline_source, std::uint64_t seed,
+                           const EvaluatorOptions& options) {
+  std::mt19937_64 rng(seed * 7919 + 17);
+  GeneratedCase out;
+  Model truth(baseline, baseline_source, caseFreeParameters());
+  std::vector<double> values = truth.values();
+  for (size_t i = 0; i < values.size(); ++i) {
+    values[i] *= logUniform(rng, 0.8, 1.25);
+    out.truth[truth.parameters()[i].name] = values[i];
+  }
+  std::ostringstream description;
+  description << "case " << c.name << ", seed " << seed << ": ";
+  for (const std::string& effect : c.hidden) {
+    truth.addCandidate(candidateByName(effect));
+    for (const Range& r : rangesOf(effect, rng)) {
+      double v = r.low == r.high ? r.low : logUniform(rng, r.low, r.high);
+      if (r.random_sign && std::uniform_int_distribution<int>(0, 1)(rng) == 1) v = -v;
+      values.push_back(v);
+      out.truth[r.variable] = v;
+    }
+  }
+  truth.setValues(values);
+  if (c.table) {
+    out.data.tables.push_back(generateTable(truth, tablePlan(), seed, options));
+    out.data.tables.back().source = "<" + c.name + " seed " + std::to_string(seed) + ">";
+  } else {
+    SeriesPlan plan = seriesPlan();
+    if (c.unknown) {
+      plan.ripple_fraction = std::uniform_real_distribution<double>(0.2, 0.35)(rng);
+      plan.ripple_period = std::uniform_real_distribution<double>(8.0, 16.0)(rng);
+      out.truth["motor_ripple.fraction"] = plan.ripple_fraction;
+      out.truth["motor_ripple.period"] = plan.ripple_period;
+    }
+    out.data.series.push_back(generateSeries(truth, plan, seed, options));
+    out.data.series.back().source = "<" + c.name + " seed " + std::to_string(seed) + ">";
+  }
+  for (const auto& [name, v] : out.truth) description << name << " = " << v << "; ";
+  out.description = description.str();
+  return out;
+}
+
+}  // namespace identify
+}  // namespace flagella

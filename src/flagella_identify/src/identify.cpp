@@ -1,0 +1,276 @@
+#include "flagella_identify/identify.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace flagella {
+namespace identify {
+
+namespace {
+
+std::string fmt(const std::string& f, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
+  char buf[512];
+  std::snprintf(buf, sizeof buf, f.c_str(), a, b, c, d);
+  return buf;
+}
+
+std::string joinNames(const std::vector<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : " + ") + n;
+  return s;
+}
+
+}  // namespace
+
+std::string verdictText(Verdict v) {
+  switch (v) {
+    case Verdict::kNoDiscrepancy:
+      return "no significant discrepancy";
+    case Verdict::kNamedCause:
+      return "named cause";
+    case Verdict::kUnexplained:
+      return "unexplained residual";
+  }
+  return "?";
+}
+
+double chiSquareCritical(int k) {
+  // chi-square quantiles at p = 1e-3
+  static const double table[] = {10.83, 13.82, 16.27, 18.47, 20.52, 22.46};
+  return table[std::clamp(k, 1, 6) - 1];
+}
+
+Identification::Identification(MeasuredData data, YAML::Node baseline, std::string baseline_source,
+                               IdentifyOptions options)
+    : data_(std::move(data)),
+      baseline_(YAML::Clone(baseline)),
+      source_(std::move(baseline_source)),
+      options_(std::move(options)),
+      evaluator_(data_, makeSplit(data_), options_.evaluator) {}
+
+void Identification::say(const std::string& line) const {
+  if (options_.progress) options_.progress(line);
+}
+
+Model Identification::modelOf(const ModelOutcome& outcome) const {
+  Model model(baseline_, source_, options_.free);
+  for (const std::string& name : outcome.effects) model.addCandidate(candidateByName(name));
+  if (!outcome.parameters.empty()) model.parameters() = outcome.parameters;
+  return model;
+}
+
+ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>& effects,
+                                             const ModelOutcome& reference) {
+  ModelOutcome out;
+  Model model(baseline_, source_, options_.free);
+  for (const Candidate* c : effects) {
+    model.addCandidate(*c);
+    out.effects.push_back(c->name);
+  }
+  out.label = effects.empty() ? "baseline" : joinNames(out.effects);
+  // Start from the reference model's values where the parameters coincide.
+  std::vector<double> values = model.values();
+  for (size_t i = 0; i < values.size(); ++i)
+    for (const FitParameter& p : reference.parameters)
+      if (p.name == model.parameters()[i].name) values[i] = p.value;
+  // Try each new candidate's start points with the others fixed; keep the best.
+  size_t offset = model.baselineCount();
+  for (const Candidate* c : effects) {
+    const bool inherited = std::any_of(reference.effects.begin(), reference.effects.end(),
+                                       [&](const std::string& n) { return n == c->name; });
+    if (!inherited && !c->starts.empty()) {
+      std::vector<std::vector<double>> trials;
+      for (const std::vector<double>& start : c->starts) {
+        std::vector<double> v = values;
+        std::copy(start.begin(), start.end(), v.begin() + offset);
+        trials.push_back(v);
+      }
+      const std::vector<Evaluation> evals = evaluator_.evaluateMany(model, trials, Part::kTrain);
+      out.evaluations += static_cast<int>(trials.size());
+      double best = 1e300;
+      for (size_t k = 0; k < trials.size(); ++k)
+        if (evals[k].ok && chiSquare(evals[k]) < best) {
+          best = chiSquare(evals[k]);
+          values = trials[k];
+        }
+    }
+    offset += c->variables.size();
+  }
+  model.setValues(values);
+  say("  fitting " + out.label + " (" + std::to_string(model.parameters().size()) + " parameters)");
+  const FitResult fit = fitModel(model, evaluator_, options_.fit);
+  out.evaluations += fit.evaluations;
+  if (!fit.ok) {
+    out.note = fit.message;
+    say("    fit failed: " + fit.message);
+    return out;
+  }
+  out.fitted = true;
+  out.note = fit.message;
+  out.parameters = model.parameters();
+  out.extra_parameters = static_cast<int>(model.parameters().size()) - model.baselineCount();
+  out.train_chi_square = fit.chi_square;
+  out.train_count = fit.residual_count;
+  const Evaluation held = evaluator_.evaluate(model, model.values(), Part::kHeldOut);
+  out.evaluations += 1;
+  if (!held.ok) {
+    out.fitted = false;
+    out.note = "the fitted model fails on the held-out experiments: " + held.failure;
+    return out;
+  }
+  out.held_out_chi_square = chiSquare(held);
+  out.held_out_count = static_cast<int>(held.points.size());
+  out.held_out_rms_z = std::sqrt(out.held_out_chi_square / std::max(1, out.held_out_count));
+  out.noise_z = noiseZScore(out.held_out_chi_square, out.held_out_count);
+  const double base_excess = baseline_excess_;
+  out.explained =
+      base_excess > 0.0
+          ? 1.0 - std::max(0.0, out.held_out_chi_square - out.held_out_count) / base_excess
+          : 0.0;
+  const int extra = out.extra_parameters - reference.extra_parameters;
+  if (extra > 0) {
+    out.improvement = reference.held_out_chi_square - out.held_out_chi_square;
+    out.penalty = extra * std::log(static_cast<double>(std::max(2, out.held_out_count)));
+    out.critical = chiSquareCritical(extra);
+    out.significant = out.improvement - out.penalty > out.critical;
+  }
+  say(fmt("    %.0f model evaluations, %.0f iterations; training chi^2 %.4g; held-out chi^2 %.4g",
+          out.evaluations, fit.iterations, out.train_chi_square, out.held_out_chi_square) +
+      fmt(" over %.0f residuals (RMS z %.3g)", out.held_out_count, out.held_out_rms_z));
+  return out;
+}
+
+IdentifyResult Identification::run() {
+  IdentifyResult result;
+  say("calibrating the baseline (" + source_ + ") on the training split");
+  ModelOutcome none;
+  result.baseline = fitModelOutcome({}, none);
+  result.total_evaluations += result.baseline.evaluations;
+  if (!result.baseline.fitted)
+    throw std::runtime_error("the baseline model could not be calibrated: " + result.baseline.note);
+
+  const Model baseline_model = modelOf(result.baseline);
+  const Evaluation held =
+      evaluator_.evaluate(baseline_model, baseline_model.values(), Part::kHeldOut);
+  result.baseline_diagnosis = diagnose(held, data_);
+  const Diagnosis& d = result.baseline_diagnosis;
+  baseline_excess_ = std::max(0.0, d.chi_square - d.count);
+  say(fmt("diagnosis: held-out RMS z %.3g, noise test z = %.2f (significant above %.1f)", d.rms_z,
+          d.noise_z, kSignificanceZ));
+  for (const Signature& s : d.signatures) say("  signature: " + s.kind + " - " + s.text);
+  if (!d.significant) {
+    result.verdict = Verdict::kNoDiscrepancy;
+    result.summary = fmt(
+        "No significant discrepancy: the calibrated baseline predicts the held-out data within "
+        "the measurement noise (RMS z %.2f over %.0f residuals, noise test z = %.2f < %.1f). No "
+        "effect is named.",
+        d.rms_z, d.count, d.noise_z, kSignificanceZ);
+    return result;
+  }
+
+  // ---- every identifiable candidate, fitted together with the baseline parameters ----
+  const unsigned observables = observablesOf(data_);
+  std::vector<const Candidate*> pool;
+  if (options_.candidates.empty())
+    for (const Candidate& c : standardCandidates()) pool.push_back(&c);
+  else
+    for (const std::string& n : options_.candidates) pool.push_back(&candidateByName(n));
+  for (const Candidate* c : pool) {
+    const std::string reason = notIdentifiableReason(*c, observables);
+    if (!reason.empty()) {
+      ModelOutcome skipped;
+      skipped.label = c->name;
+      skipped.effects = {c->name};
+      skipped.note = "not identifiable from these data: " + reason;
+      result.candidates.push_back(skipped);
+      say("candidate " + c->name + ": skipped (" + reason + ")");
+      continue;
+    }
+    say("candidate " + c->name + ": " + c->title);
+    result.candidates.push_back(fitModelOutcome({c}, result.baseline));
+    result.total_evaluations += result.candidates.back().evaluations;
+  }
+
+  auto score = [](const ModelOutcome& m) { return m.held_out_chi_square + m.penalty; };
+  const ModelOutcome* best = nullptr;
+  for (const ModelOutcome& m : result.candidates)
+    if (m.fitted && m.significant && (!best || score(m) < score(*best))) best = &m;
+
+  std::optional<ModelOutcome> chosen;
+  if (best) chosen = *best;
+  // One effect not enough: add a second one to the best and keep it if it is significant.
+  if (chosen && chosen->noise_z > kSignificanceZ && options_.max_effects >= 2) {
+    say(fmt("the best single effect explains %.1f %% of the excess and leaves a significant "
+            "residual; trying pairs with ",
+            100.0 * chosen->explained) +
+        chosen->label);
+    const ModelOutcome first = *chosen;
+    for (const ModelOutcome& m : result.candidates) {
+      // effects that improved the held-out error on their own (a second effect can be
+      // masked by the first one's larger discrepancy, so significance alone is not required)
+      if (!m.fitted || m.improvement <= 0.0 || m.label == first.label) continue;
+      std::vector<const Candidate*> pair{&candidateByName(first.effects[0]),
+                                         &candidateByName(m.effects[0])};
+      ModelOutcome combined = fitModelOutcome(pair, first);
+      result.total_evaluations += combined.evaluations;
+      result.combinations.push_back(combined);
+    }
+    const ModelOutcome* best_pair = nullptr;
+    for (const ModelOutcome& m : result.combinations)
+      if (m.fitted && m.significant && (!best_pair || score(m) < score(*best_pair))) best_pair = &m;
+    if (best_pair) chosen = *best_pair;
+  }
+
+  if (chosen) {
+    result.chosen = chosen;
+    const Model model = modelOf(*chosen);
+    result.chosen_diagnosis =
+        diagnose(evaluator_.evaluate(model, model.values(), Part::kHeldOut), data_);
+    result.gain = 1.0 - chosen->held_out_rms_z / std::max(1e-300, d.rms_z);
+  }
+  std::string signatures;
+  for (const Signature& s : d.signatures)
+    signatures += (signatures.empty() ? "" : "; ") + s.kind + " in " + s.output;
+  if (signatures.empty()) signatures = "no simple signature";
+  if (chosen && chosen->explained >= kExplainedShare) {
+    result.verdict = Verdict::kNamedCause;
+    result.named = chosen->effects;
+    result.summary = "Named cause: " + joinNames(chosen->effects) +
+                     fmt(". The calibrated baseline misses the held-out data (RMS z %.2f, noise "
+                         "test z = %.1f; ",
+                         d.rms_z, d.noise_z);
+    result.summary += signatures +
+                      fmt("). With the effect the held-out RMS z is %.2f (noise test "
+                          "z = %.2f); it removes %.1f %% of the baseline's excess "
+                          "over the noise",
+                          chosen->held_out_rms_z, chosen->noise_z, 100.0 * chosen->explained) +
+                      fmt("; the held-out chi^2 drops by %.1f", chosen->improvement) +
+                      fmt(", more than the parsimony penalty %.1f plus the p = 0.001 critical "
+                          "value %.1f. Held-out gain %.0f %%.",
+                          chosen->penalty, chosen->critical, 100.0 * result.gain);
+  } else {
+    result.verdict = Verdict::kUnexplained;
+    result.summary = fmt("Unexplained residual: the calibrated baseline misses the held-out data "
+                         "(RMS z %.2f, noise test z = %.1f) with signature: ",
+                         d.rms_z, d.noise_z) +
+                     signatures + ". ";
+    if (chosen)
+      result.summary += fmt("The best candidate model (" + chosen->label +
+                                ") reduces the held-out RMS z to %.2f but removes only %.0f %% of "
+                                "the excess over the noise (noise test z = %.1f), so no cause is "
+                                "named.",
+                            chosen->held_out_rms_z, 100.0 * chosen->explained, chosen->noise_z);
+    else
+      result.summary +=
+          "No candidate effect improves the held-out error significantly, so no "
+          "cause is named.";
+  }
+  say("verdict: " + verdictText(result.verdict) +
+      (result.named.empty() ? "" : " (" + joinNames(result.named) + ")"));
+  return result;
+}
+
+}  // namespace identify
+}  // namespace flagella

@@ -1,0 +1,122 @@
+#include "flagella_identify/model.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "flagella_sim/core/yaml_fields.h"
+
+namespace flagella {
+namespace identify {
+
+std::vector<double> valuesOf(const std::vector<FitParameter>& parameters) {
+  std::vector<double> v;
+  for (const FitParameter& p : parameters) v.push_back(p.value);
+  return v;
+}
+
+namespace {
+
+std::string formatValue(double value) {
+  std::ostringstream s;
+  s.precision(17);
+  s << value;
+  return s.str();
+}
+
+/// The node at a dotted path, or an undefined node.
+YAML::Node lookup(const YAML::Node& root, const std::string& path) {
+  YAML::Node node = YAML::Clone(root);
+  std::stringstream parts(path);
+  std::string key;
+  while (std::getline(parts, key, '.')) {
+    if (!node.IsMap() || !node[key]) return YAML::Node();
+    node = node[key];
+  }
+  return node;
+}
+
+}  // namespace
+
+YAML::Node loadConfigTree(const std::string& path, const std::vector<std::string>& overrides) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw ConfigError(path + ": cannot open the robot config");
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(path + ":" + std::to_string(e.mark.line + 1) + ":" +
+                      std::to_string(e.mark.column + 1) + ": " + e.msg);
+  }
+  for (const std::string& o : overrides) applyOverride(root, o);
+  parseSimulationConfig(root, path);  // validates before any fit starts
+  return root;
+}
+
+Model::Model(YAML::Node baseline, std::string source, const std::vector<std::string>& free,
+             double range_factor)
+    : baseline_(YAML::Clone(baseline)), source_(std::move(source)) {
+  for (const std::string& name : free) {
+    const YAML::Node node = lookup(baseline_, name);
+    if (!node || !node.IsScalar())
+      throw ConfigError("free parameter '" + name + "' is not a number in " + source_ +
+                        " (give a config path such as medium.viscosity or "
+                        "effects.stokes_head.C_t)");
+    double value = 0.0;
+    try {
+      value = node.as<double>();
+    } catch (const YAML::Exception&) {
+      throw ConfigError("free parameter '" + name + "' is not a number in " + source_);
+    }
+    if (!(value > 0.0) || !std::isfinite(value))
+      throw ConfigError("free parameter '" + name + "' must be > 0 in " + source_ +
+                        " to be fitted on a log scale, got " + formatValue(value));
+    FitParameter p;
+    p.name = name;
+    p.value = value;
+    p.lower = value / range_factor;
+    p.upper = value * range_factor;
+    p.log_scale = true;
+    parameters_.push_back(p);
+  }
+  baseline_count_ = static_cast<int>(parameters_.size());
+}
+
+void Model::addCandidate(const Candidate& candidate) {
+  candidates_.push_back(&candidate);
+  for (const FitParameter& v : candidate.variables) parameters_.push_back(v);
+}
+
+void Model::setValues(const std::vector<double>& values) {
+  for (size_t i = 0; i < parameters_.size(); ++i) parameters_[i].value = values.at(i);
+}
+
+std::string Model::label() const {
+  std::string s = "baseline";
+  for (const Candidate* c : candidates_) s += " + " + c->name;
+  return s;
+}
+
+YAML::Node Model::treeFor(const std::vector<ConfigOverride>& overrides, double session_time,
+                          const std::vector<double>& values) const {
+  YAML::Node tree = YAML::Clone(baseline_);
+  for (const auto& [field, value] : overrides) applyOverride(tree, field + "=" + value);
+  for (int i = 0; i < baseline_count_; ++i)
+    applyOverride(tree, parameters_[i].name + "=" + formatValue(values.at(i)));
+  size_t next = baseline_count_;
+  for (const Candidate* c : candidates_) {
+    std::vector<double> own(values.begin() + next, values.begin() + next + c->variables.size());
+    c->apply(tree, own, session_time);
+    next += c->variables.size();
+  }
+  return tree;
+}
+
+SimulationConfig Model::configFor(const std::vector<ConfigOverride>& overrides, double session_time,
+                                  const std::vector<double>& values) const {
+  return parseSimulationConfig(treeFor(overrides, session_time, values), source_);
+}
+
+YAML::Node Model::extendedConfig() const { return treeFor({}, 0.0, values()); }
+
+}  // namespace identify
+}  // namespace flagella

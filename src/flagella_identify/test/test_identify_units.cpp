@@ -1,0 +1,193 @@
+// The pieces of the identification against independent truth: chi-square quantiles, the
+// split, signatures in residuals built by hand, candidates written into configs, and a
+// calibration that recovers drawn truth values within its stated uncertainty.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "flagella_identify/candidates.h"
+#include "flagella_identify/diagnosis.h"
+#include "flagella_identify/discovery_cases.h"
+#include "flagella_identify/fit.h"
+#include "flagella_identify/model.h"
+#include "support/discovery_check.h"
+
+namespace flagella {
+namespace identify {
+namespace {
+
+constexpr double kRpm = 2.0 * M_PI / 60.0;
+
+bool hasSignature(const Diagnosis& d, const std::string& kind, const std::string& output) {
+  for (const Signature& s : d.signatures)
+    if (s.kind == kind && s.output == output) return true;
+  return false;
+}
+
+ResidualPoint tablePoint(const std::string& output, double omega_rpm, double data, double model,
+                         double session_time = NAN) {
+  ResidualPoint p;
+  p.output = output;
+  p.omega_T = omega_rpm * kRpm;
+  p.data = data;
+  p.model = model;
+  p.sigma = 1.0;
+  p.session_time = session_time;
+  return p;
+}
+
+TEST(NoiseTest, MatchesChiSquareQuantiles) {
+  // chi-square quantiles (tables): N = 100: median 99.334, p = 0.999: 149.449;
+  // N = 1000: p = 0.999: 1143.917. One-sided normal z at 0.999 is 3.0902.
+  EXPECT_NEAR(noiseZScore(99.334, 100), 0.0, 0.02);
+  EXPECT_NEAR(noiseZScore(149.449, 100), 3.0902, 0.03);
+  EXPECT_NEAR(noiseZScore(1143.917, 1000), 3.0902, 0.02);
+}
+
+TEST(NoiseTest, PureNoiseIsNotADiscrepancy) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> n(0.0, 1.0);
+  Evaluation e;
+  for (int i = 0; i < 600; ++i)
+    e.points.push_back(tablePoint("v", 40 + i % 7 * 30, n(rng), 0.0, i * 10.0));
+  const Diagnosis d = diagnose(e, MeasuredData{});
+  EXPECT_FALSE(d.significant) << d.noise_z;
+  EXPECT_TRUE(d.signatures.empty());
+}
+
+TEST(Split, HeldOutRowsSpanTheSpeedRangeAndSeriesHoldOutTheirEnd) {
+  MeasuredData data;
+  SteadyStateTable t;
+  for (double rpm : {90, 10, 50, 70, 30, 80, 20, 60, 40}) {
+    SteadyStateRow r;
+    r.omega_T = rpm * kRpm;
+    t.rows.push_back(r);
+  }
+  data.tables.push_back(t);
+  TimeSeries s;
+  s.t = {2.0, 4.0, 6.0, 12.0};
+  data.series.push_back(s);
+  const Split split = makeSplit(data);
+  std::vector<double> held;
+  for (size_t i = 0; i < t.rows.size(); ++i)
+    if (split.table_row_held_out[0][i]) held.push_back(t.rows[i].omega_T / kRpm);
+  std::sort(held.begin(), held.end());
+  EXPECT_EQ(held, (std::vector<double>{20, 50, 80}));  // one per third of the speed range
+  EXPECT_NEAR(split.series_split_time[0], 2.0 + 0.6 * 10.0, 1e-12);
+}
+
+TEST(Signatures, ThresholdWhereTheDataStandStill) {
+  Evaluation e;
+  for (int rep = 0; rep < 2; ++rep)
+    for (double rpm = 20; rpm <= 200; rpm += 20) {
+      const double model = rpm;  // the model moves at every speed
+      const double data = rpm <= 60 ? 0.3 : rpm + (rep ? 0.5 : -0.5);
+      e.points.push_back(tablePoint("v", rpm, data, model));
+    }
+  const Diagnosis d = diagnose(e, MeasuredData{});
+  EXPECT_TRUE(d.significant);
+  EXPECT_TRUE(hasSignature(d, "threshold", "v"));
+  EXPECT_FALSE(hasSignature(d, "asymmetry", "v"));
+}
+
+TEST(Signatures, AsymmetryWithTheSignOfRotation) {
+  Evaluation e;
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (int i = 0; i < 20; ++i) {
+    e.points.push_back(tablePoint("omega_h", 50 + i, 10.0, 10.0 + 3.0 + n(rng)));
+    e.points.push_back(tablePoint("omega_h", -50 - i, 10.0, 10.0 - 3.0 + n(rng)));
+  }
+  const Diagnosis d = diagnose(e, MeasuredData{});
+  EXPECT_TRUE(hasSignature(d, "asymmetry", "omega_h"));
+}
+
+TEST(Signatures, DriftWithSessionTimeAtEqualSpeed) {
+  Evaluation e;
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::uniform_real_distribution<double> when(0.0, 14400.0);
+  for (int i = 0; i < 40; ++i) {
+    const double t = when(rng);
+    e.points.push_back(tablePoint("v", 40 + (i % 8) * 30, 0.0, 4.0 * t / 14400.0 + n(rng), t));
+  }
+  EXPECT_TRUE(hasSignature(diagnose(e, MeasuredData{}), "drift", "v"));
+}
+
+TEST(Signatures, OscillationPeriodInASeries) {
+  Evaluation e;
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (int i = 0; i < 240; ++i) {
+    ResidualPoint p;
+    p.output = "head_turns";
+    p.from_series = true;
+    p.row = i;
+    p.run_time = 0.5 * i;
+    p.data = 0.0;
+    p.model = 5.0 * std::sin(2.0 * M_PI * p.run_time / 10.0) + n(rng);
+    e.points.push_back(p);
+  }
+  const Diagnosis d = diagnose(e, MeasuredData{});
+  ASSERT_TRUE(hasSignature(d, "oscillation", "head_turns"));
+  for (const Signature& s : d.signatures)
+    if (s.kind == "oscillation")
+      EXPECT_NE(s.text.find("period of 10.0 s"), std::string::npos) << s.text;
+}
+
+TEST(Candidates, WrittenIntoTheConfigOfAnExperiment) {
+  const YAML::Node baseline = loadConfigTree(testing::baselinePath(), {});
+  Model model(baseline, "baseline", {"medium.viscosity"});
+  model.addCandidate(candidateByName("granular_yield"));
+  model.addCandidate(candidateByName("fabrication_asymmetry"));
+  const SimulationConfig c = model.configFor({{"robot.n_tails", "3"}}, 0.0, {5.0, 4e-4, 0.8, 1.5});
+  EXPECT_DOUBLE_EQ(c.medium.viscosity(), 5.0);
+  bool yield = false;
+  for (const EffectSpec& e : c.effects)
+    if (e.name == "granular_yield")
+      for (const auto& [name, value] : e.parameters)
+        if (name == "yield_force") yield = value == 4e-4;
+  EXPECT_TRUE(yield);
+  EXPECT_EQ(c.geometry.tail_length_scale, (std::vector<double>{0.8, 1.0, 1.0}));
+  EXPECT_EQ(c.geometry.tail_stiffness_scale, (std::vector<double>{1.5, 1.0, 1.0}));
+}
+
+TEST(Candidates, NotIdentifiableWithoutTheirObservables) {
+  MeasuredData speed_only;
+  SteadyStateTable t;
+  SteadyStateRow r;
+  r.measured["v"] = 1e-4;
+  t.rows.push_back(r);
+  speed_only.tables.push_back(t);
+  const unsigned o = observablesOf(speed_only);
+  EXPECT_NE(notIdentifiableReason(candidateByName("dc_motor"), o).find("rotation"),
+            std::string::npos);
+  EXPECT_EQ(notIdentifiableReason(candidateByName("granular_yield"), o), "");
+  EXPECT_NE(notIdentifiableReason(candidateByName("viscosity_drift"), o).find("session"),
+            std::string::npos);
+}
+
+TEST(Calibration, RecoversDrawnTruthWithinItsUncertainty) {
+  const YAML::Node baseline = loadConfigTree(testing::baselinePath(), {});
+  const GeneratedCase g =
+      generateCase(discoveryCaseByName("null_table"), baseline, testing::baselinePath(), 21);
+  const Evaluator evaluator(g.data, makeSplit(g.data));
+  Model model(baseline, testing::baselinePath(), caseFreeParameters());
+  const FitResult fit = fitModel(model, evaluator, FitOptions{});
+  ASSERT_TRUE(fit.ok) << fit.message;
+  for (size_t i = 0; i < model.parameters().size(); ++i) {
+    const FitParameter& p = model.parameters()[i];
+    const double truth = g.truth.at(p.name);
+    ASSERT_TRUE(std::isfinite(p.uncertainty)) << p.name;
+    EXPECT_GT(p.uncertainty, 0.0) << p.name;
+    EXPECT_LT(std::abs(p.value - truth), 4.0 * p.uncertainty)
+        << p.name << ": fitted " << p.value << " +- " << p.uncertainty << ", truth " << truth;
+  }
+  // the training residual is pure noise at the optimum
+  EXPECT_LT(noiseZScore(fit.chi_square, fit.residual_count), kSignificanceZ);
+}
+
+}  // namespace
+}  // namespace identify
+}  // namespace flagella

@@ -1,0 +1,119 @@
+// flagella_identify: from measured data and a baseline robot config to a discovery report
+// (calibrate, diagnose, select a physical effect, measure the held-out gain).
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdlib>
+#include <iostream>
+#include <thread>
+
+#include "flagella_identify/bag_reader.h"
+#include "flagella_identify/identify.h"
+#include "flagella_identify/report.h"
+
+using namespace flagella;
+using namespace flagella::identify;
+
+namespace {
+
+const std::vector<std::string> kDefaultFree = {"medium.viscosity", "effects.stokes_head.C_t",
+                                               "effects.stokes_head.C_r"};
+
+/// The default free parameters that the config actually has.
+std::vector<std::string> defaultFree(const YAML::Node& config) {
+  std::vector<std::string> free;
+  for (const std::string& name : kDefaultFree) {
+    YAML::Node node = YAML::Clone(config);
+    bool found = true;
+    std::stringstream parts(name);
+    std::string key;
+    while (std::getline(parts, key, '.')) {
+      if (!node.IsMap() || !node[key]) {
+        found = false;
+        break;
+      }
+      node = node[key];
+    }
+    if (found) free.push_back(name);
+  }
+  return free;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "flagella_identify: calibrate a robot config on measured data, diagnose what it gets "
+      "wrong, name the physical effect that explains it, and report the held-out gain"};
+  std::vector<std::string> data_files, overrides, free, candidates;
+  std::string config, out_dir = "out/identify";
+  int jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  bool quiet = false, no_plot = false;
+  app.add_option("--data", data_files,
+                 "measured data: metadata YAML (steady_state or time_series; CSV or bag), "
+                 "repeatable")
+      ->required();
+  app.add_option("--config", config,
+                 "baseline robot config (YAML), e.g. config/granular_design1.yaml")
+      ->required();
+  app.add_option("--free", free,
+                 "baseline config fields to fit (default: medium.viscosity, "
+                 "effects.stokes_head.C_t, effects.stokes_head.C_r where present)")
+      ->delimiter(',');
+  app.add_option("--candidates", candidates, "candidate effects to consider (default: all)")
+      ->delimiter(',');
+  app.add_option("--set", overrides,
+                 "override a baseline config field, e.g. robot.tail_edges=8 (repeatable)");
+  app.add_option("--out", out_dir, "report directory")->capture_default_str();
+  app.add_option("--jobs", jobs, "simulations run in parallel")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  app.add_flag("--no-plot", no_plot, "do not draw report.png");
+  app.add_flag("--quiet", quiet, "no progress output");
+  CLI11_PARSE(app, argc, argv);
+
+  const auto start = std::chrono::steady_clock::now();
+  auto progress = [&](const std::string& line) {
+    if (quiet) return;
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::cout << "[" << std::fixed << std::setprecision(1) << s << " s] " << line << std::endl;
+  };
+  try {
+    enableBagInput();
+    MeasuredData data = readMeasuredData(data_files);
+    const YAML::Node baseline = loadConfigTree(config, overrides);
+    for (const std::string& name : candidates) candidateByName(name);  // validates the names
+    IdentifyOptions options;
+    options.free = free.empty() ? defaultFree(baseline) : free;
+    options.candidates = candidates;
+    options.evaluator.jobs = jobs;
+    options.progress = progress;
+    options.fit.progress = progress;
+    progress("read " + std::to_string(data.tables.size()) + " table(s) and " +
+             std::to_string(data.series.size()) + " time series; fitting " +
+             std::to_string(options.free.size()) + " baseline parameters");
+    Identification identification(std::move(data), baseline, config, options);
+    const IdentifyResult result = identification.run();
+    ReportInputs inputs;
+    inputs.data_files = data_files;
+    inputs.baseline_config = config;
+    for (int i = 0; i < argc; ++i) inputs.command_line += (i ? " " : "") + std::string(argv[i]);
+    const std::vector<std::string> files = writeReport(identification, result, inputs, out_dir);
+    if (!no_plot) {
+      const std::string cmd =
+          "python3 " FLAGELLA_SCRIPTS_DIR "/plot_identification.py '" + out_dir + "'";
+      if (std::system(cmd.c_str()) != 0)
+        std::cerr << "warning: plotting failed (" << cmd
+                  << "); the report is complete without it\n";
+    }
+    std::cout << "\nverdict: " << verdictText(result.verdict) << "\n" << result.summary << "\n";
+    for (const std::string& f : files) std::cout << "wrote " << f << "\n";
+  } catch (const ConfigError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,47 @@
+// flagella_make_dataset: writes a measured-style data set (YAML metadata + CSV) generated from
+// a truth model with a hidden effect, as the tests do; for examples and for trying the tool.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "flagella_identify/discovery_cases.h"
+#include "flagella_identify/model.h"
+
+using namespace flagella;
+using namespace flagella::identify;
+
+int main(int argc, char** argv) {
+  CLI::App app{"flagella_make_dataset: a measured-style data set with a hidden effect"};
+  std::string case_name, out,
+      config = FLAGELLA_CONFIG_DIR "/identification/granular_design1_coarse.yaml";
+  int seed = 1;
+  std::string names;
+  for (const DiscoveryCase& c : discoveryCases()) names += (names.empty() ? "" : ", ") + c.name;
+  app.add_option("--case", case_name, "hidden-effect case: " + names)->required();
+  app.add_option("--seed", seed, "draws the truth and the noise")->capture_default_str();
+  app.add_option("--config", config, "baseline robot config")->capture_default_str();
+  app.add_option("--out", out, "metadata YAML to write (the CSV goes next to it)")->required();
+  CLI11_PARSE(app, argc, argv);
+  try {
+    const YAML::Node baseline = loadConfigTree(config, {});
+    const GeneratedCase g = generateCase(discoveryCaseByName(case_name), baseline, config, seed);
+    // The data must not give the hidden truth away: it is printed, not stored.
+    const std::string description =
+        "measured-style data generated from a truth model (flagella_make_dataset, seed " +
+        std::to_string(seed) + ")";
+    if (!g.data.tables.empty()) {
+      SteadyStateTable t = g.data.tables.front();
+      t.description = description;
+      writeSteadyStateTable(t, out);
+    } else {
+      TimeSeries s = g.data.series.front();
+      s.description = description;
+      writeTimeSeries(s, out);
+    }
+    std::cout << "wrote " << out << " and " << csvPathForMetadata(out)
+              << "\ntruth: " << g.description << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}

@@ -1,0 +1,32 @@
+#include "flagella_sim/effects/granular_yield.h"
+
+#include <cmath>
+
+namespace flagella {
+
+void addRegularizedCoulombForce(const EffectContext& ctx, int node, double yield_force,
+                                double velocity_scale, VecX& force, JacobianSink* jacobian) {
+  const Vec3 v = ctx.nodeVelocity(node);
+  const double s = std::sqrt(v.squaredNorm() + velocity_scale * velocity_scale);
+  force.segment<3>(3 * node) -= (yield_force / s) * v;  // F = -F_y v / sqrt(|v|^2 + v_s^2)
+  if (!jacobian) return;
+  // dF/dx = (1/dt) dF/dv = -(F_y/dt) (I/s - v v^T/s^3)
+  const Mat3 dF_dv = -yield_force * (Mat3::Identity() / s - v * v.transpose() / (s * s * s));
+  jacobian->addBlock(3 * node, 3 * node, dF_dv / ctx.dt);
+}
+
+GranularYield::GranularYield() : Effect(kName) {
+  yield_force_ = params_.declare("yield_force", 0.0, 0.0, 10.0, "N",
+                                 "granular yield force F_y resisting head translation");
+  velocity_scale_ = params_.declare("velocity_scale", 1e-6, 1e-9, 1e-2, "m/s",
+                                    "regularisation speed v_s of the yield force's sign function");
+}
+
+void GranularYield::attach(const RodNetwork& net) { node_ = net.parts.head_center_node; }
+
+void GranularYield::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const {
+  addRegularizedCoulombForce(ctx, node_, params_[yield_force_], params_[velocity_scale_], force,
+                             jacobian);
+}
+
+}  // namespace flagella
