@@ -45,7 +45,6 @@ Simulation::Simulation(const SimulationConfig& config)
 StepReport Simulation::step() {
   const StepReport r = stepper_.step(state_, config_.dt, *motor_);
   last_omega_ = motor_->omega(state_.time);
-  last_motor_speed_ = stepper_.lastMotorSpeed();
   newton_iterations_ += r.newton_iterations;
   subdivided_steps_ += r.substeps > 1;
   return r;
@@ -86,7 +85,7 @@ TrajectorySample Simulation::sample() const {
   s.omega_h = state_.qdot(net.thetaIndex(parts.head_edge));
   s.omega_t = state_.qdot(net.thetaIndex(parts.shaft_edge));
   s.omega_T = last_omega_;
-  s.omega_motor = last_motor_speed_;
+  s.omega_motor = stepper_.lastMotorSpeed();
   // Yaw of the forward direction -t^0 about the vertical, and its exact rate from the
   // velocities of x_0, x_1: d(t)/dt = (I - t t^T)(v_1 - v_0)/|e^0|.
   const Vec3& up = stepper_.medium().up;

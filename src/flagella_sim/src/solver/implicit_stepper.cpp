@@ -42,7 +42,10 @@ ImplicitStepper::ImplicitStepper(RodNetwork net, std::vector<EffectPtr> effects,
   if (net_.parts.motor_spring >= 0)
     motor_tau_bar0_ = net_.bend_twist_springs.at(net_.parts.motor_spring).tau_bar;
   for (bool fixed : net_.fixed_dof) any_fixed_ = any_fixed_ || fixed;
-  for (const EffectPtr& e : effects_) e->attach(net_);
+  for (const EffectPtr& e : effects_) {
+    e->attach(net_);
+    any_motor_shaping_ = any_motor_shaping_ || e->shapesMotorSpeed();
+  }
 }
 
 Effect* ImplicitStepper::findEffect(const std::string& name) const {
@@ -175,7 +178,7 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, const Moto
   medium_.setViscosityFactor(viscosity_factor);
   const double command = motor.omega(t_next);
   double omega = command;
-  if (std::isfinite(command)) {
+  if (any_motor_shaping_ && std::isfinite(command)) {
     const MotorLoad load = motorLoad(state, command, t_next);
     for (const EffectPtr& e : effects_) omega = e->motorSpeed(omega, load);
   }

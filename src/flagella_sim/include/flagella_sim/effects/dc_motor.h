@@ -15,6 +15,7 @@ class DcMotor : public Effect {
   DcMotor();
   void addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const override;
   double motorSpeed(double omega, const MotorLoad& load) const override;
+  bool shapesMotorSpeed() const override { return true; }
 
  private:
   int stall_torque_ = 0;

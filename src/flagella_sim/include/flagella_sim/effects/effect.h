@@ -81,6 +81,9 @@ class Effect {
   /// load.time, given the speed `omega` requested upstream (the command, or the previous
   /// effect's result) [rad/s].
   virtual double motorSpeed(double omega, const MotorLoad& /*load*/) const { return omega; }
+  /// True for effects that override motorSpeed: the stepper evaluates the motor load (one
+  /// spring's bending-twisting terms per step) only when some effect needs it.
+  virtual bool shapesMotorSpeed() const { return false; }
   /// Called after every accepted (sub)step with the states at its start and end: the place to
   /// update internal state (e.g. hysteresis). Not called for rejected attempts.
   virtual void acceptStep(const RodNetwork& /*net*/, const RodState& /*start*/,

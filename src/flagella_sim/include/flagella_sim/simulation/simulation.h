@@ -52,7 +52,7 @@ class Simulation {
   double lastMotorCommand() const { return last_omega_; }
   /// Motor speed applied in the last step (the command unless an effect such as dc_motor
   /// modifies it) [rad/s].
-  double lastMotorSpeed() const { return last_motor_speed_; }
+  double lastMotorSpeed() const { return stepper_.lastMotorSpeed(); }
 
  private:
   ParameterSet& parameterOwner(const std::string& name, std::string& local) const;
@@ -65,7 +65,6 @@ class Simulation {
   bool record_nodes_ = false;
   double next_sample_time_ = 0.0;
   double last_omega_ = 0.0;
-  double last_motor_speed_ = 0.0;
   long newton_iterations_ = 0;
   long subdivided_steps_ = 0;
 };

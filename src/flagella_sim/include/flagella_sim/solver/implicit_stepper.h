@@ -88,6 +88,7 @@ class ImplicitStepper {
   double motor_tau_bar0_ = 0.0;
   double last_motor_speed_ = 0.0;
   bool any_fixed_ = false;
+  bool any_motor_shaping_ = false;  ///< some effect overrides Effect::motorSpeed
   SparseAssembler assembler_;
   VecX residual_, external_;
   SparseLuSolver lu_;
