@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "csv.h"
+#include "text_format.h"
 
 namespace flagella {
 namespace identify {
@@ -20,12 +21,6 @@ namespace identify {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string joinNames(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
 
 bool contains(const std::vector<std::string>& names, const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
@@ -74,7 +69,7 @@ std::string overrideNameProblem(const std::string& name) {
   const std::string section = name.substr(0, dot);
   if (!contains(overrideSections(), section))
     return "addresses an unknown config section '" + section +
-           "' (allowed: " + joinNames(overrideSections()) + ")";
+           "' (allowed: " + joined(overrideSections(), ", ") + ")";
   return "";
 }
 
@@ -107,7 +102,8 @@ class Metadata {
     for (const auto& kv : map) {
       const std::string key = keyText(kv.first, prefix);
       if (!contains(allowed, key))
-        fail(kv.first, "unknown key '" + prefix + key + "' (allowed: " + joinNames(allowed) + ")");
+        fail(kv.first,
+             "unknown key '" + prefix + key + "' (allowed: " + joined(allowed, ", ") + ")");
     }
   }
 
@@ -286,7 +282,7 @@ double requiredNumber(const csv::Table& table, const csv::Row& row, int index) {
 [[noreturn]] void missingColumn(const csv::Table& table, const std::string& name) {
   throw DataError(
       table.path, table.header_line, 1,
-      "missing required column '" + name + "' (header has: " + joinNames(table.header) + ")");
+      "missing required column '" + name + "' (header has: " + joined(table.header, ", ") + ")");
 }
 
 // ---------------------------------------------------------------- steady-state tables
@@ -333,16 +329,16 @@ SteadyStateTable readSteadyState(const Metadata& meta) {
     } else {
       throw DataError(csv.path, csv.header_line, col + 1,
                       "unknown column '" + name + "' (allowed: id, time_s, omega_T_rpm, " +
-                          joinNames(measuredColumnNames()) +
+                          joined(measuredColumnNames(), ", ") +
                           ", or a config override 'section.field' with section one of " +
-                          joinNames(overrideSections()) + ")");
+                          joined(overrideSections(), ", ") + ")");
     }
   }
   if (omega_col < 0) missingColumn(csv, "omega_T_rpm");
   if (measured.empty())
     throw DataError(
         csv.path, csv.header_line, 1,
-        "no measured column; expected at least one of " + joinNames(measuredColumnNames()));
+        "no measured column; expected at least one of " + joined(measuredColumnNames(), ", "));
   for (const auto& [col, m] : measured)
     meta.requireNoise(noise, m->column,
                       "'" + csv.path + "' has the measured column '" + m->column + "'");
@@ -397,7 +393,7 @@ TimeSeries readSeriesCsv(const std::string& csv_path) {
     if (!contains(allowed, csv.header[i]))
       throw DataError(
           csv.path, csv.header_line, static_cast<int>(i) + 1,
-          "unknown column '" + csv.header[i] + "' (allowed: " + joinNames(allowed) + ")");
+          "unknown column '" + csv.header[i] + "' (allowed: " + joined(allowed, ", ") + ")");
   const auto col = [&](const std::string& name) {
     const auto it = index.find(name);
     return it == index.end() ? -1 : it->second;
@@ -416,7 +412,7 @@ TimeSeries readSeriesCsv(const std::string& csv_path) {
   if (!q_missing.empty() && q_missing.size() < q_names.size())
     throw DataError(csv.path, csv.header_line, q_first + 1,
                     "the quaternion columns come as a group of four (qw, qx, qy, qz); missing " +
-                        joinNames(q_missing));
+                        joined(q_missing, ", "));
   const bool has_q = q_missing.empty();
   const int t_col = col("t_s");
   const int z_col = col("z_mm");
@@ -690,7 +686,7 @@ void writeSteadyStateTable(const SteadyStateTable& table, const std::string& yam
     if (std::isinf(row.time)) fail("a row has an infinite time");
     for (const auto& [name, value] : row.measured) {
       if (!measuredByOutput(name))
-        fail("unknown output '" + name + "' (allowed: " + joinNames(steadyOutputNames()) + ")");
+        fail("unknown output '" + name + "' (allowed: " + joined(steadyOutputNames(), ", ") + ")");
       if (std::isinf(value)) fail("output '" + name + "' has an infinite value");
       used.insert(name);
     }
@@ -700,8 +696,8 @@ void writeSteadyStateTable(const SteadyStateTable& table, const std::string& yam
   }
   for (const auto& [name, sigma] : table.noise)
     if (!measuredByOutput(name))
-      fail("noise for unknown output '" + name + "' (allowed: " + joinNames(steadyOutputNames()) +
-           ")");
+      fail("noise for unknown output '" + name +
+           "' (allowed: " + joined(steadyOutputNames(), ", ") + ")");
   std::vector<const MeasuredColumn*> columns;
   for (const MeasuredColumn& m : measuredColumns()) {
     if (!used.count(m.output)) continue;

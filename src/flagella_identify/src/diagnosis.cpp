@@ -6,19 +6,14 @@
 #include <cstdio>
 #include <map>
 
+#include "text_format.h"
+
 namespace flagella {
 namespace identify {
 
 namespace {
 
 constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);
-
-std::string format(const std::string& fmt, double a, double b = 0.0, double c = 0.0,
-                   double d = 0.0) {
-  char buf[512];
-  std::snprintf(buf, sizeof buf, fmt.c_str(), a, b, c, d);
-  return buf;
-}
 
 double mean(const std::vector<double>& v) {
   double s = 0.0;
@@ -167,7 +162,7 @@ Diagnosis diagnose(const Evaluation& evaluation, const MeasuredData& data) {
       d.signatures.push_back(
           {"bias", name, std::abs(bias_z),
            "the model " + std::string(o.mean_z > 0 ? "over" : "under") + "-predicts " + name +
-               format(" by %.3g ", std::abs(o.mean_error)) + unit + " on average"});
+               formatted(" by %.3g ", std::abs(o.mean_error)) + unit + " on average"});
     // sign of rotation
     std::vector<double> zp, zn;
     for (const ResidualPoint* p : pts) (p->omega_T >= 0 ? zp : zn).push_back(p->z());
@@ -175,10 +170,10 @@ Diagnosis diagnose(const Evaluation& evaluation, const MeasuredData& data) {
       const double t = (mean(zp) - mean(zn)) / std::sqrt(1.0 / zp.size() + 1.0 / zn.size());
       if (std::abs(t) > kSignificanceZ)
         d.signatures.push_back({"asymmetry", name, std::abs(t),
-                                format("the error in " + name +
-                                           " depends on the sign of rotation: mean z %+.2f for "
-                                           "omega_T > 0, %+.2f for omega_T < 0",
-                                       mean(zp), mean(zn))});
+                                formatted("the error in " + name +
+                                              " depends on the sign of rotation: mean z %+.2f for "
+                                              "omega_T > 0, %+.2f for omega_T < 0",
+                                          mean(zp), mean(zn))});
     }
     // trend with motor speed (tables): saturation or threshold
     std::vector<double> speed, z, session, run, zs, speed_s;
@@ -207,49 +202,43 @@ Diagnosis diagnose(const Evaluation& evaluation, const MeasuredData& data) {
       if (still >= 2 && max_still < min_moving)
         d.signatures.push_back(
             {"threshold", name, static_cast<double>(still),
-             format("%.0f experiments show no %s at |omega_T| <= %.0f rpm where the model "
-                    "predicts motion; it resumes from %.0f rpm",
-                    still, 0.0, max_still * kRadPerSecToRpm, min_moving * kRadPerSecToRpm)});
+             formatted("%.0f experiments show no " + name +
+                           " at |omega_T| <= %.0f rpm where the model predicts motion; it "
+                           "resumes from %.0f rpm",
+                       still, max_still * kRadPerSecToRpm, min_moving * kRadPerSecToRpm)});
       const double t = correlationT(speed, z);
       if (std::abs(t) > kSignificanceZ)
         d.signatures.push_back({"saturation", name, std::abs(t),
                                 "the " + std::string(t > 0 ? "over" : "under") + "-prediction of " +
                                     name + " grows with |omega_T|" +
-                                    format(" (correlation t = %.1f)", t)});
+                                    formatted(" (correlation t = %.1f)", t)});
     } else {
       const double t = correlationT(run, z);
       if (std::abs(t) > kSignificanceZ)
         d.signatures.push_back({"drift", name, std::abs(t),
-                                format("the error in " + name +
-                                           " grows steadily over the run (correlation with run "
-                                           "time t = %.1f)",
-                                       t)});
+                                formatted("the error in " + name +
+                                              " grows steadily over the run (correlation with run "
+                                              "time t = %.1f)",
+                                          t)});
       const auto [period, ratio] = dominantPeriod(run, z);
       if (ratio > 30.0)
         d.signatures.push_back({"oscillation", name, ratio,
-                                format("the error in " + name +
-                                           " oscillates with a period of %.1f s (peak %.0fx the "
-                                           "median spectral power)",
-                                       period, ratio)});
+                                formatted("the error in " + name +
+                                              " oscillates with a period of %.1f s (peak %.0fx the "
+                                              "median spectral power)",
+                                          period, ratio)});
     }
     if (zs.size() >= 4 && !pts.front()->from_series) {
       // partial correlation: the motor speed held fixed (experiments run in random order)
       const double t = correlationT(residualize(session, speed_s), residualize(zs, speed_s));
       if (std::abs(t) > kSignificanceZ)
         d.signatures.push_back({"drift", name, std::abs(t),
-                                format("the error in " + name +
-                                           " changes with the session time of the experiment, "
-                                           "at equal motor speed (partial correlation t = %.1f)",
-                                       t)});
+                                formatted("the error in " + name +
+                                              " changes with the session time of the experiment, "
+                                              "at equal motor speed (partial correlation t = %.1f)",
+                                          t)});
     }
   }
-  // fix the threshold text (the output name could not go through the numeric formatter)
-  for (Signature& s : d.signatures)
-    if (s.kind == "threshold") {
-      const size_t at = s.text.find("no 0");
-      if (at != std::string::npos) s.text.replace(at, 4, "no " + s.output);
-    }
-
   // intermittency in a series: stretches where the tracked head is still but the model moves
   for (size_t si = 0; si < data.series.size(); ++si) {
     const TimeSeries& s = data.series[si];
@@ -281,9 +270,10 @@ Diagnosis diagnose(const Evaluation& evaluation, const MeasuredData& data) {
     if (moving_model >= 10 && stopped >= 3 && stopped < moving_model * 0.8)
       d.signatures.push_back(
           {"intermittency", "position", static_cast<double>(stopped),
-           format("in %.0f of %.0f intervals the head nearly stops (speed below a quarter of the "
-                  "model's) and then moves on",
-                  stopped, moving_model)});
+           formatted(
+               "in %.0f of %.0f intervals the head nearly stops (speed below a quarter of the "
+               "model's) and then moves on",
+               stopped, moving_model)});
   }
 
   // where: motor-speed range, sign, part of the run
@@ -305,15 +295,15 @@ Diagnosis diagnose(const Evaluation& evaluation, const MeasuredData& data) {
         part[std::min(2, static_cast<int>(3.0 * p->run_time / (t_max + 1e-9)))].push_back(p);
     }
     const double rpm = kRadPerSecToRpm;
-    d.where.push_back(group(format("|omega_T| < %.0f rpm", lo * rpm), g[0]));
-    d.where.push_back(group(format("|omega_T| %.0f-%.0f rpm", lo * rpm, hi * rpm), g[1]));
-    d.where.push_back(group(format("|omega_T| >= %.0f rpm", hi * rpm), g[2]));
+    d.where.push_back(group(formatted("|omega_T| < %.0f rpm", lo * rpm), g[0]));
+    d.where.push_back(group(formatted("|omega_T| %.0f-%.0f rpm", lo * rpm, hi * rpm), g[1]));
+    d.where.push_back(group(formatted("|omega_T| >= %.0f rpm", hi * rpm), g[2]));
     d.where.push_back(group("omega_T >= 0", sign[0]));
     d.where.push_back(group("omega_T < 0", sign[1]));
     for (int k = 0; k < 3; ++k)
       if (!part[k].empty())
         d.where.push_back(
-            group(format("run time %.0f-%.0f s", k * t_max / 3, (k + 1) * t_max / 3), part[k]));
+            group(formatted("run time %.0f-%.0f s", k * t_max / 3, (k + 1) * t_max / 3), part[k]));
     d.where.erase(std::remove_if(d.where.begin(), d.where.end(),
                                  [](const GroupStats& s) { return s.count == 0; }),
                   d.where.end());

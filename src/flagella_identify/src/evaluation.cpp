@@ -69,8 +69,8 @@ std::vector<int> selectSamples(const TimeSeries& s, double t0, double t1, int ma
   return picked;
 }
 
-std::vector<ConfigOverride> joined(const std::vector<ConfigOverride>& a,
-                                   const std::vector<ConfigOverride>& b) {
+std::vector<ConfigOverride> allOverrides(const std::vector<ConfigOverride>& a,
+                                         const std::vector<ConfigOverride>& b) {
   std::vector<ConfigOverride> all = a;
   all.insert(all.end(), b.begin(), b.end());
   return all;
@@ -147,7 +147,7 @@ void Evaluator::runJob(const Model& model, const std::vector<double>& values, co
       const SteadyStateRow& row = table.rows[job.row];
       const double session = orZero(row.time);
       SimulationConfig cfg =
-          model.configFor(joined(table.overrides, row.overrides), session, values);
+          model.configFor(allOverrides(table.overrides, row.overrides), session, values);
       cfg.motor.mode = "constant";
       cfg.motor.omega = row.omega_T;
       cfg.duration = table.settle_time + table.window;

@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <memory>
 
 namespace flagella {
@@ -58,59 +57,82 @@ class SimulationResiduals : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     const int n = static_cast<int>(coords_.free_index.size());
-    const int m = num_residuals();
     const std::vector<double> u(parameters[0], parameters[0] + n);
     const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
-    // Ceres asks for the same point more than once (cost, then cost and Jacobian): reuse it.
-    if (u == cached_u_ && (!want_jacobian || cached_has_jacobian_)) {
-      std::copy(cached_r_.begin(), cached_r_.end(), residuals);
-      if (want_jacobian) std::copy(cached_j_.begin(), cached_j_.end(), jacobians[0]);
-      return cached_ok_;
-    }
-    std::vector<std::vector<double>> points{coords_.values(u.data())};
-    std::vector<double> steps(n, 0.0);
-    if (want_jacobian) {
-      for (int k = 0; k < n; ++k) {
-        const FitParameter& p = coords_.parameters[coords_.free_index[k]];
-        steps[k] = p.log_scale ? options_.log_step : options_.linear_step * (p.upper - p.lower);
-        // Step inward at the upper bound so the perturbed point stays in range.
-        if (u[k] + steps[k] > coords_.upperU(k)) steps[k] = -steps[k];
-        std::vector<double> shifted = u;
-        shifted[k] += steps[k];
-        points.push_back(coords_.values(shifted.data()));
-      }
-    }
-    std::vector<Evaluation> evals = evaluator_.evaluateMany(model_, points, Part::kTrain);
-    *evaluations_ += static_cast<int>(points.size());
-    // A perturbed model that cannot be simulated: difference the other way instead.
-    for (int k = 0; want_jacobian && evals[0].ok && k < n; ++k) {
-      if (evals[k + 1].ok) continue;
-      steps[k] = -steps[k];
-      std::vector<double> shifted = u;
-      shifted[k] += steps[k];
-      evals[k + 1] = evaluator_.evaluate(model_, coords_.values(shifted.data()), Part::kTrain);
+    // Ceres asks for the same point more than once (cost, then cost and Jacobian): reuse it,
+    // and when only the Jacobian is new, simulate only the perturbed models.
+    const bool known = u == cached_u_;
+    if (known && !cached_ok_) return false;
+    if (!known) {
+      cached_u_ = u;
+      cached_has_jacobian_ = false;
+      cached_ok_ = residualsOf(evaluator_.evaluate(model_, coords_.values(u.data()), Part::kTrain),
+                               cached_r_);
       *evaluations_ += 1;
+      if (!cached_ok_) return false;
     }
-    cached_u_ = u;
-    cached_has_jacobian_ = want_jacobian;
-    cached_ok_ = false;
-    for (const Evaluation& e : evals)
-      if (!e.ok || static_cast<int>(e.points.size()) != m) return false;
-    cached_r_.assign(m, 0.0);
-    for (int i = 0; i < m; ++i) cached_r_[i] = evals[0].points[i].z();
     std::copy(cached_r_.begin(), cached_r_.end(), residuals);
-    if (want_jacobian) {
-      cached_j_.assign(static_cast<size_t>(m) * n, 0.0);
-      for (int k = 0; k < n; ++k)
-        for (int i = 0; i < m; ++i)
-          cached_j_[i * n + k] = (evals[k + 1].points[i].z() - cached_r_[i]) / steps[k];
-      std::copy(cached_j_.begin(), cached_j_.end(), jacobians[0]);
+    if (!want_jacobian) return true;
+    if (!cached_has_jacobian_) {
+      if (!jacobianAt(u)) return false;
+      cached_has_jacobian_ = true;
     }
-    cached_ok_ = true;
+    std::copy(cached_j_.begin(), cached_j_.end(), jacobians[0]);
     return true;
   }
 
+  /// Seeds the cache with an evaluation already made at `u`.
+  void prime(const std::vector<double>& u, const Evaluation& e) const {
+    cached_u_ = u;
+    cached_has_jacobian_ = false;
+    cached_ok_ = residualsOf(e, cached_r_);
+  }
+
  private:
+  /// The normalised residuals of an evaluation; false if it failed or has the wrong size.
+  bool residualsOf(const Evaluation& e, std::vector<double>& r) const {
+    if (!e.ok || static_cast<int>(e.points.size()) != num_residuals()) return false;
+    r.resize(e.points.size());
+    for (size_t i = 0; i < r.size(); ++i) r[i] = e.points[i].z();
+    return true;
+  }
+
+  /// Forward-difference Jacobian at `u` (base residuals in cached_r_) into cached_j_; the
+  /// perturbed models are simulated in parallel.
+  bool jacobianAt(const std::vector<double>& u) const {
+    const int n = static_cast<int>(u.size());
+    const int m = num_residuals();
+    std::vector<double> steps(n);
+    std::vector<std::vector<double>> points;
+    for (int k = 0; k < n; ++k) {
+      const FitParameter& p = coords_.parameters[coords_.free_index[k]];
+      steps[k] = p.log_scale ? options_.log_step : options_.linear_step * (p.upper - p.lower);
+      // Step inward at the upper bound so the perturbed point stays in range.
+      if (u[k] + steps[k] > coords_.upperU(k)) steps[k] = -steps[k];
+      std::vector<double> shifted = u;
+      shifted[k] += steps[k];
+      points.push_back(coords_.values(shifted.data()));
+    }
+    const std::vector<Evaluation> evals = evaluator_.evaluateMany(model_, points, Part::kTrain);
+    *evaluations_ += n;
+    cached_j_.assign(static_cast<size_t>(m) * n, 0.0);
+    std::vector<double> shifted_r;
+    for (int k = 0; k < n; ++k) {
+      if (!residualsOf(evals[k], shifted_r)) {
+        // A perturbed model that cannot be simulated: difference the other way instead.
+        steps[k] = -steps[k];
+        std::vector<double> shifted = u;
+        shifted[k] += steps[k];
+        *evaluations_ += 1;
+        if (!residualsOf(evaluator_.evaluate(model_, coords_.values(shifted.data()), Part::kTrain),
+                         shifted_r))
+          return false;
+      }
+      for (int i = 0; i < m; ++i) cached_j_[i * n + k] = (shifted_r[i] - cached_r_[i]) / steps[k];
+    }
+    return true;
+  }
+
   const Model& model_;
   const Evaluator& evaluator_;
   const Coordinates& coords_;
@@ -166,11 +188,16 @@ FitResult fitModel(Model& model, const Evaluator& evaluator, const FitOptions& o
   std::vector<double> u(n);
   for (int k = 0; k < n; ++k) u[k] = coords.toU(k);
 
+  // One cost function for the fit and the covariance: its cache holds the start evaluation and,
+  // usually, the Jacobian at the optimum.
+  SimulationResiduals cost(model, evaluator, coords, options, result.residual_count,
+                           &result.evaluations);
+  cost.prime(u, start);
   if (n > 0) {
-    ceres::Problem problem;
-    auto* cost = new SimulationResiduals(model, evaluator, coords, options, result.residual_count,
-                                         &result.evaluations);
-    problem.AddResidualBlock(cost, nullptr, u.data());
+    ceres::Problem::Options po;
+    po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(po);
+    problem.AddResidualBlock(&cost, nullptr, u.data());
     for (int k = 0; k < n; ++k) {
       problem.SetParameterLowerBound(u.data(), k, coords.lowerU(k));
       problem.SetParameterUpperBound(u.data(), k, coords.upperU(k));
@@ -196,14 +223,12 @@ FitResult fitModel(Model& model, const Evaluator& evaluator, const FitOptions& o
   result.sigma.assign(result.values.size(), 0.0);
 
   // Covariance of u from the Jacobian at the optimum: (J^T J)^+ (known measurement noise).
-  const SimulationResiduals at_optimum(model, evaluator, coords, options, result.residual_count,
-                                       &result.evaluations);
   std::vector<double> r(result.residual_count);
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> J(result.residual_count,
                                                                            std::max(n, 1));
   const double* params[] = {u.data()};
   double* jac[] = {J.data()};
-  if (n > 0 && at_optimum.Evaluate(params, r.data(), jac)) {
+  if (n > 0 && cost.Evaluate(params, r.data(), jac)) {
     const Eigen::MatrixXd JtJ = J.leftCols(n).transpose() * J.leftCols(n);
     Eigen::JacobiSVD<Eigen::MatrixXd> svd(JtJ, Eigen::ComputeFullU | Eigen::ComputeFullV);
     const Eigen::VectorXd s = svd.singularValues();

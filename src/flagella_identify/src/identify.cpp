@@ -5,24 +5,12 @@
 #include <cstdio>
 #include <sstream>
 
+#include "text_format.h"
+
 namespace flagella {
 namespace identify {
 
-namespace {
-
-std::string fmt(const std::string& f, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
-  char buf[512];
-  std::snprintf(buf, sizeof buf, f.c_str(), a, b, c, d);
-  return buf;
-}
-
-std::string joinNames(const std::vector<std::string>& names) {
-  std::string s;
-  for (const std::string& n : names) s += (s.empty() ? "" : " + ") + n;
-  return s;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::string verdictText(Verdict v) {
   switch (v) {
@@ -69,7 +57,7 @@ ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>
     model.addCandidate(*c);
     out.effects.push_back(c->name);
   }
-  out.label = effects.empty() ? "baseline" : joinNames(out.effects);
+  out.label = effects.empty() ? "baseline" : joined(out.effects, " + ");
   // Start from the reference model's values where the parameters coincide.
   std::vector<double> values = model.values();
   for (size_t i = 0; i < values.size(); ++i)
@@ -113,7 +101,8 @@ ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>
   out.extra_parameters = static_cast<int>(model.parameters().size()) - model.baselineCount();
   out.train_chi_square = fit.chi_square;
   out.train_count = fit.residual_count;
-  const Evaluation held = evaluator_.evaluate(model, model.values(), Part::kHeldOut);
+  out.held_out = evaluator_.evaluate(model, model.values(), Part::kHeldOut);
+  const Evaluation& held = out.held_out;
   out.evaluations += 1;
   if (!held.ok) {
     out.fitted = false;
@@ -136,9 +125,10 @@ ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>
     out.critical = chiSquareCritical(extra);
     out.significant = out.improvement - out.penalty > out.critical;
   }
-  say(fmt("    %.0f model evaluations, %.0f iterations; training chi^2 %.4g; held-out chi^2 %.4g",
+  say(formatted(
+          "    %.0f model evaluations, %.0f iterations; training chi^2 %.4g; held-out chi^2 %.4g",
           out.evaluations, fit.iterations, out.train_chi_square, out.held_out_chi_square) +
-      fmt(" over %.0f residuals (RMS z %.3g)", out.held_out_count, out.held_out_rms_z));
+      formatted(" over %.0f residuals (RMS z %.3g)", out.held_out_count, out.held_out_rms_z));
   return out;
 }
 
@@ -151,18 +141,15 @@ IdentifyResult Identification::run() {
   if (!result.baseline.fitted)
     throw std::runtime_error("the baseline model could not be calibrated: " + result.baseline.note);
 
-  const Model baseline_model = modelOf(result.baseline);
-  const Evaluation held =
-      evaluator_.evaluate(baseline_model, baseline_model.values(), Part::kHeldOut);
-  result.baseline_diagnosis = diagnose(held, data_);
+  result.baseline_diagnosis = diagnose(result.baseline.held_out, data_);
   const Diagnosis& d = result.baseline_diagnosis;
   baseline_excess_ = std::max(0.0, d.chi_square - d.count);
-  say(fmt("diagnosis: held-out RMS z %.3g, noise test z = %.2f (significant above %.1f)", d.rms_z,
-          d.noise_z, kSignificanceZ));
+  say(formatted("diagnosis: held-out RMS z %.3g, noise test z = %.2f (significant above %.1f)",
+                d.rms_z, d.noise_z, kSignificanceZ));
   for (const Signature& s : d.signatures) say("  signature: " + s.kind + " - " + s.text);
   if (!d.significant) {
     result.verdict = Verdict::kNoDiscrepancy;
-    result.summary = fmt(
+    result.summary = formatted(
         "No significant discrepancy: the calibrated baseline predicts the held-out data within "
         "the measurement noise (RMS z %.2f over %.0f residuals, noise test z = %.2f < %.1f). No "
         "effect is named.",
@@ -202,9 +189,9 @@ IdentifyResult Identification::run() {
   if (best) chosen = *best;
   // One effect not enough: add a second one to the best and keep it if it is significant.
   if (chosen && chosen->noise_z > kSignificanceZ && options_.max_effects >= 2) {
-    say(fmt("the best single effect explains %.1f %% of the excess and leaves a significant "
-            "residual; trying pairs with ",
-            100.0 * chosen->explained) +
+    say(formatted("the best single effect explains %.1f %% of the excess and leaves a significant "
+                  "residual; trying pairs with ",
+                  100.0 * chosen->explained) +
         chosen->label);
     const ModelOutcome first = *chosen;
     for (const ModelOutcome& m : result.candidates) {
@@ -225,9 +212,7 @@ IdentifyResult Identification::run() {
 
   if (chosen) {
     result.chosen = chosen;
-    const Model model = modelOf(*chosen);
-    result.chosen_diagnosis =
-        diagnose(evaluator_.evaluate(model, model.values(), Part::kHeldOut), data_);
+    result.chosen_diagnosis = diagnose(chosen->held_out, data_);
     result.gain = 1.0 - chosen->held_out_rms_z / std::max(1e-300, d.rms_z);
   }
   std::string signatures;
@@ -237,38 +222,43 @@ IdentifyResult Identification::run() {
   if (chosen && chosen->explained >= kExplainedShare) {
     result.verdict = Verdict::kNamedCause;
     result.named = chosen->effects;
-    result.summary = "Named cause: " + joinNames(chosen->effects) +
-                     fmt(". The calibrated baseline misses the held-out data (RMS z %.2f, noise "
+    result.summary = "Named cause: " + joined(chosen->effects, " + ") +
+                     formatted(
+                         ". The calibrated baseline misses the held-out data (RMS z %.2f, noise "
                          "test z = %.1f; ",
                          d.rms_z, d.noise_z);
     result.summary += signatures +
-                      fmt("). With the effect the held-out RMS z is %.2f (noise test "
+                      formatted(
+                          "). With the effect the held-out RMS z is %.2f (noise test "
                           "z = %.2f); it removes %.1f %% of the baseline's excess "
                           "over the noise",
                           chosen->held_out_rms_z, chosen->noise_z, 100.0 * chosen->explained) +
-                      fmt("; the held-out chi^2 drops by %.1f", chosen->improvement) +
-                      fmt(", more than the parsimony penalty %.1f plus the p = 0.001 critical "
+                      formatted("; the held-out chi^2 drops by %.1f", chosen->improvement) +
+                      formatted(
+                          ", more than the parsimony penalty %.1f plus the p = 0.001 critical "
                           "value %.1f. Held-out gain %.0f %%.",
                           chosen->penalty, chosen->critical, 100.0 * result.gain);
   } else {
     result.verdict = Verdict::kUnexplained;
-    result.summary = fmt("Unexplained residual: the calibrated baseline misses the held-out data "
+    result.summary = formatted(
+                         "Unexplained residual: the calibrated baseline misses the held-out data "
                          "(RMS z %.2f, noise test z = %.1f) with signature: ",
                          d.rms_z, d.noise_z) +
                      signatures + ". ";
     if (chosen)
-      result.summary += fmt("The best candidate model (" + chosen->label +
-                                ") reduces the held-out RMS z to %.2f but removes only %.0f %% of "
-                                "the excess over the noise (noise test z = %.1f), so no cause is "
-                                "named.",
-                            chosen->held_out_rms_z, 100.0 * chosen->explained, chosen->noise_z);
+      result.summary +=
+          formatted("The best candidate model (" + chosen->label +
+                        ") reduces the held-out RMS z to %.2f but removes only %.0f %% of "
+                        "the excess over the noise (noise test z = %.1f), so no cause is "
+                        "named.",
+                    chosen->held_out_rms_z, 100.0 * chosen->explained, chosen->noise_z);
     else
       result.summary +=
           "No candidate effect improves the held-out error significantly, so no "
           "cause is named.";
   }
   say("verdict: " + verdictText(result.verdict) +
-      (result.named.empty() ? "" : " (" + joinNames(result.named) + ")"));
+      (result.named.empty() ? "" : " (" + joined(result.named, " + ") + ")"));
   return result;
 }
 

@@ -23,8 +23,9 @@ std::string formatValue(double value) {
   return s.str();
 }
 
-/// The node at a dotted path, or an undefined node.
-YAML::Node lookup(const YAML::Node& root, const std::string& path) {
+}  // namespace
+
+YAML::Node configField(const YAML::Node& root, const std::string& path) {
   YAML::Node node = YAML::Clone(root);
   std::stringstream parts(path);
   std::string key;
@@ -34,8 +35,6 @@ YAML::Node lookup(const YAML::Node& root, const std::string& path) {
   }
   return node;
 }
-
-}  // namespace
 
 YAML::Node loadConfigTree(const std::string& path, const std::vector<std::string>& overrides) {
   YAML::Node root;
@@ -56,7 +55,7 @@ Model::Model(YAML::Node baseline, std::string source, const std::vector<std::str
              double range_factor)
     : baseline_(YAML::Clone(baseline)), source_(std::move(source)) {
   for (const std::string& name : free) {
-    const YAML::Node node = lookup(baseline_, name);
+    const YAML::Node node = configField(baseline_, name);
     if (!node || !node.IsScalar())
       throw ConfigError("free parameter '" + name + "' is not a number in " + source_ +
                         " (give a config path such as medium.viscosity or "

@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "text_format.h"
+
 namespace flagella {
 namespace identify {
 
@@ -128,11 +130,7 @@ std::vector<std::string> writeReport(const Identification& identification, const
     std::ofstream out(yaml_path);
     out << "# " << (named ? "Extended" : "Calibrated baseline") << " robot config from "
         << inputs.baseline_config << "\n# identification verdict: " << verdictText(r.verdict);
-    if (named) {
-      out << " (";
-      for (size_t i = 0; i < r.named.size(); ++i) out << (i ? " + " : "") << r.named[i];
-      out << ")";
-    }
+    if (named) out << " (" << joined(r.named, " + ") << ")";
     out << "\n# run it: flagella_run run " << yaml_path << "\n";
     YAML::Emitter e;
     e << (named ? extended : baseline).extendedConfig();

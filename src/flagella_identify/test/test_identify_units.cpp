@@ -131,9 +131,11 @@ TEST(Signatures, OscillationPeriodInASeries) {
   }
   const Diagnosis d = diagnose(e, MeasuredData{});
   ASSERT_TRUE(hasSignature(d, "oscillation", "head_turns"));
-  for (const Signature& s : d.signatures)
-    if (s.kind == "oscillation")
+  for (const Signature& s : d.signatures) {
+    if (s.kind == "oscillation") {
       EXPECT_NE(s.text.find("period of 10.0 s"), std::string::npos) << s.text;
+    }
+  }
 }
 
 TEST(Candidates, WrittenIntoTheConfigOfAnExperiment) {

@@ -8,6 +8,7 @@
 
 #include "flagella_identify/bag_reader.h"
 #include "flagella_identify/identify.h"
+#include "flagella_identify/model.h"
 #include "flagella_identify/report.h"
 
 using namespace flagella;
@@ -21,20 +22,8 @@ const std::vector<std::string> kDefaultFree = {"medium.viscosity", "effects.stok
 /// The default free parameters that the config actually has.
 std::vector<std::string> defaultFree(const YAML::Node& config) {
   std::vector<std::string> free;
-  for (const std::string& name : kDefaultFree) {
-    YAML::Node node = YAML::Clone(config);
-    bool found = true;
-    std::stringstream parts(name);
-    std::string key;
-    while (std::getline(parts, key, '.')) {
-      if (!node.IsMap() || !node[key]) {
-        found = false;
-        break;
-      }
-      node = node[key];
-    }
-    if (found) free.push_back(name);
-  }
+  for (const std::string& name : kDefaultFree)
+    if (configField(config, name).IsScalar()) free.push_back(name);
   return free;
 }
 

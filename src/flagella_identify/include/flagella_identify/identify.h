@@ -47,6 +47,7 @@ struct ModelOutcome {
   double critical = 0.0;     ///< chi-square critical value (p = 1e-3) for the extras
   bool significant = false;  ///< improvement - penalty > critical
   int evaluations = 0;
+  Evaluation held_out;  ///< the fitted model's held-out residuals
 };
 
 enum class Verdict { kNoDiscrepancy, kNamedCause, kUnexplained };

@@ -54,6 +54,10 @@ class Model {
   int baseline_count_ = 0;
 };
 
+/// The node at a dotted path ("effects.stokes_head.C_t") of a config tree, or a null node if
+/// the path does not exist.
+YAML::Node configField(const YAML::Node& root, const std::string& path);
+
 /// Reads a YAML config file and applies "section.field=value" overrides (identification
 /// fidelity, e.g. robot.tail_edges=8); errors name the file.
 YAML::Node loadConfigTree(const std::string& path, const std::vector<std::string>& overrides);

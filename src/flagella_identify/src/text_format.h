@@ -1,0 +1,28 @@
+// printf-style formatting of numbers into report text (library-internal).
+#pragma once
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace flagella {
+namespace identify {
+
+/// `format` with up to four numeric conversions (%g, %.1f, ...); the text must not contain
+/// other conversions.
+inline std::string formatted(const std::string& format, double a, double b = 0.0, double c = 0.0,
+                             double d = 0.0) {
+  char buffer[512];
+  std::snprintf(buffer, sizeof buffer, format.c_str(), a, b, c, d);
+  return buffer;
+}
+
+/// The names separated by `separator` ("a, b" or "a + b").
+inline std::string joined(const std::vector<std::string>& names, const std::string& separator) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : separator) + n;
+  return out;
+}
+
+}  // namespace identify
+}  // namespace flagella
