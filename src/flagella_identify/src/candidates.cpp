@@ -46,7 +46,7 @@ std::vector<Candidate> makeCandidates() {
     c.signature = "circling: a steady yaw rate that reverses with the sign of rotation";
     c.needs = kHeading;
     c.variables = {variable("interface_lateral_force.C_yr", "", -50.0, 50.0, false)};
-    c.starts = {{-1.0}, {1.0}};
+    c.starts = {{-1e-1}, {-1e-2}, {-1e-3}, {1e-3}, {1e-2}, {1e-1}};  // both signs, three decades
     c.apply = [](YAML::Node& cfg, const std::vector<double>& v, double) {
       setEffect(cfg, "interface_lateral_force", {{"C_yr", v[0]}});  // spec 3.3, Eq. 4.13
     };
@@ -73,7 +73,8 @@ std::vector<Candidate> makeCandidates() {
     c.needs = kTranslation | kTimeResolved;
     c.variables = {variable("granular_jamming.stiffness", "N/m", 1e-4, 1e3, true),
                    variable("granular_jamming.release_force", "N", 1e-7, 1.0, true)};
-    c.starts = {{0.03, 3e-4}, {0.3, 3e-4}, {0.3, 1e-3}, {3.0, 1e-3}};
+    for (double stiffness : {0.3, 1.0, 3.0})  // a grid: the fit of a stick-slip is multimodal
+      for (double release : {3e-4, 1e-3, 3e-3}) c.starts.push_back({stiffness, release});
     c.apply = [](YAML::Node& cfg, const std::vector<double>& v, double) {
       setEffect(cfg, "granular_jamming", {{"stiffness", v[0]}, {"release_force", v[1]}});
     };

@@ -1,5 +1,6 @@
 #include "flagella_identify/discovery_cases.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -26,7 +27,7 @@ std::vector<Range> rangesOf(const std::string& effect, std::mt19937_64& rng) {
     return {{"dc_motor.inverse_stall_torque", 80.0, 230.0, false}};
   if (effect == "viscosity_drift") return {{"viscosity_drift.rate", 0.04, 0.12, true}};
   if (effect == "granular_jamming")
-    return {{"granular_jamming.release_force", 6e-4, 1.1e-3, false},
+    return {{"granular_jamming.release_force", 1.5e-3, 3e-3, false},
             {"granular_jamming.stiffness", 0.8, 3.0, false}};
   if (effect == "com_offset") return {{"com_offset.offset", 1e-3, 4e-3, true}};
   if (effect == "interface_lateral_force")
@@ -115,14 +116,23 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
   description << "case " << c.name << ", seed " << seed << ": ";
   for (const std::string& effect : c.hidden) {
     truth.addCandidate(candidateByName(effect));
+    const std::vector<double> defaults = truth.values();  // new variables start at defaults
+    values.insert(values.end(), defaults.begin() + values.size(), defaults.end());
     for (const Range& r : rangesOf(effect, rng)) {
       double v = r.low == r.high ? r.low : logUniform(rng, r.low, r.high);
       if (r.random_sign && std::uniform_int_distribution<int>(0, 1)(rng) == 1) v = -v;
-      values.push_back(v);
+      // by name: the ranges need not list an effect's variables in the candidate's order
+      const auto& params = truth.parameters();
+      const auto it = std::find_if(params.begin(), params.end(),
+                                   [&](const FitParameter& p) { return p.name == r.variable; });
+      if (it == params.end())
+        throw std::logic_error("strength range for unknown variable '" + r.variable + "'");
+      values[static_cast<size_t>(it - params.begin())] = v;
       out.truth[r.variable] = v;
     }
   }
   truth.setValues(values);
+  out.truth_config = truth.extendedConfig();
   if (c.table) {
     out.data.tables.push_back(generateTable(truth, tablePlan(), seed, options));
     out.data.tables.back().source = "<" + c.name + " seed " + std::to_string(seed) + ">";

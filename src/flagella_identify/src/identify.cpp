@@ -195,9 +195,9 @@ IdentifyResult Identification::run() {
         chosen->label);
     const ModelOutcome first = *chosen;
     for (const ModelOutcome& m : result.candidates) {
-      // effects that improved the held-out error on their own (a second effect can be
-      // masked by the first one's larger discrepancy, so significance alone is not required)
-      if (!m.fitted || m.improvement <= 0.0 || m.label == first.label) continue;
+      // every other fitted candidate: a second effect can be masked by the first one's larger
+      // discrepancy, so that on its own it does not even lower the held-out error
+      if (!m.fitted || m.label == first.label) continue;
       std::vector<const Candidate*> pair{&candidateByName(first.effects[0]),
                                          &candidateByName(m.effects[0])};
       ModelOutcome combined = fitModelOutcome(pair, first);

@@ -1,7 +1,7 @@
 // Hidden effects in time series (design-1 granular robot, 90 s with a command staircase
-// 120, 240, -180 rpm; video tracking 0.2 mm, IMU 0.01 rad, turn counting 0.1 turn), and an
-// effect outside the candidate list (a motor-speed ripple) that must be reported as an
-// unexplained residual, never as a wrong name.
+// 120, 240, -180 rpm; video tracking 0.2 mm, IMU 0.01 rad, turn counting 0.1 turn) that show in
+// the head's pitch and speed, and an effect outside the candidate list (a motor-speed ripple)
+// that must be reported as an unexplained residual, never as a wrong name.
 #include "support/discovery_check.h"
 
 namespace flagella {
@@ -9,17 +9,11 @@ namespace identify {
 namespace testing {
 
 TEST(DiscoverySeries, CentreOfMassOffsetPitchDrift) { expectFound("com_offset", 2); }
-// Not verified within the time of the session that wrote it (minutes per case): run
-// flagella_discovery_bench --cases <name> to measure it.
-TEST(DiscoverySeries, DISABLED_InterfaceLateralForceCircling) {
-  expectFound("interface_lateral_force", 2);
-}
-// Not verified within the time of the session that wrote it (minutes per case): run
-// flagella_discovery_bench --cases <name> to measure it.
+// Known failure (README, Known limitations): with the stick-slip hidden (seeds 1-3) the
+// baseline misses the held-out data (RMS z 1.2-3.3), but the jamming fit either does not
+// extrapolate to the held-out -180 rpm phase or fails there (Newton at the reversal), so the
+// verdict is "unexplained residual": no wrong name, but not the hidden one.
 TEST(DiscoverySeries, DISABLED_GranularJammingStickSlip) { expectFound("granular_jamming", 2); }
-// Not verified within the time of the session that wrote it (minutes per case): run
-// flagella_discovery_bench --cases <name> to measure it.
-TEST(DiscoverySeries, DISABLED_FabricationAsymmetry) { expectFound("fabrication_asymmetry", 2); }
 
 TEST(DiscoverySeries, EffectOutsideTheCandidateListIsAnUnexplainedResidual) {
   const CaseOutcome o = runCase("unknown_ripple", 2);

@@ -170,6 +170,26 @@ TEST(Candidates, NotIdentifiableWithoutTheirObservables) {
             std::string::npos);
 }
 
+TEST(DiscoveryCases, TheTruthModelRunsTheDrawnValues) {
+  // Every drawn effect strength must reach the truth model's config under its own name (the
+  // strength ranges list granular_jamming's variables in another order than the candidate).
+  const YAML::Node baseline = loadConfigTree(testing::baselinePath(), {});
+  for (const char* name : {"granular_jamming", "com_offset", "granular_yield"}) {
+    const GeneratedCase g =
+        generateCase(discoveryCaseByName(name), baseline, testing::baselinePath(), 3);
+    int checked = 0;
+    for (const auto& [variable, value] : g.truth) {
+      const std::string path =
+          variable.find('.') != variable.rfind('.') || variable.rfind("medium.", 0) == 0
+              ? variable
+              : "effects." + variable;
+      EXPECT_DOUBLE_EQ(configField(g.truth_config, path).as<double>(), value) << path;
+      ++checked;
+    }
+    EXPECT_GE(checked, 4) << name;  // three baseline parameters and the effect's
+  }
+}
+
 TEST(Calibration, RecoversDrawnTruthWithinItsUncertainty) {
   const YAML::Node baseline = loadConfigTree(testing::baselinePath(), {});
   const GeneratedCase g =

@@ -122,7 +122,7 @@ TEST(GranularYield, TowedHeadHoldsBelowTheYieldForceAndMovesAtTheStokesSpeedAbov
 
 // ---- granular_jamming --------------------------------------------------------------------------
 
-TEST(GranularJamming, TowedHeadSticksAndSlipsWithTheSawtoothPeriod) {
+TEST(GranularJamming, HeadTowedAlongItsAxisSticksAndSlipsWithTheSawtoothPeriod) {
   constexpr double kStiffness = 1.0;  // k_j [N/m]
   constexpr double kRelease = 1e-3;   // F_r [N]
   constexpr double kTow = 1.05e-3;    // F > F_r [N]
@@ -141,7 +141,7 @@ TEST(GranularJamming, TowedHeadSticksAndSlipsWithTheSawtoothPeriod) {
   std::vector<EffectPtr> extra;
   extra.push_back(std::move(jamming));
   ImplicitStepper stepper =
-      towedHead(Vec3(kTow, 0.0, 0.0), std::move(extra), kRelease, kLightDensity);
+      towedHead(Vec3(0.0, 0.0, kTow), std::move(extra), kRelease, kLightDensity);  // along the axis
   const int x1 = stepper.network().parts.head_center_node;
   RodState s = stepper.initialState();
   const ConstantMotor no_motor(0.0);
@@ -159,7 +159,7 @@ TEST(GranularJamming, TowedHeadSticksAndSlipsWithTheSawtoothPeriod) {
     if (kStiffness * pushed >= kRelease) {  // the grains release
       pushed = 0.0;
       release_times.push_back(s.time);
-      release_positions.push_back(after.x());
+      release_positions.push_back(after.z());
       peaks.push_back(resistance_before);
     }
     ASSERT_NEAR(effect->resistance(), kStiffness * pushed, 1e-12 * kRelease) << "t = " << s.time;
@@ -192,6 +192,27 @@ TEST(GranularJamming, TowedHeadSticksAndSlipsWithTheSawtoothPeriod) {
   // Intermittent speed: fast right after a release, nearly stuck before the next one.
   EXPECT_NEAR(v_max, kTow / kDrag, 0.01 * kTow / kDrag);
   EXPECT_LT(v_min, 0.1 * v_max);
+}
+
+TEST(GranularJamming, HeadTowedAcrossItsAxisMeetsNoResistance) {
+  // Sideways motion does not push the grains ahead of the head: s stays 0 and the head moves
+  // at the Stokes speed F/c however far it goes.
+  constexpr double kTow = 1.05e-3;  // [N]
+  auto jamming = std::make_unique<GranularJamming>();
+  jamming->parameters().set("stiffness", 1.0);
+  jamming->parameters().set("release_force", 1e-3);
+  const GranularJamming* effect = jamming.get();
+  std::vector<EffectPtr> extra;
+  extra.push_back(std::move(jamming));
+  ImplicitStepper stepper = towedHead(Vec3(kTow, 0.0, 0.0), std::move(extra), kTow, 1.0);
+  RodState s = stepper.initialState();
+  const ConstantMotor no_motor(0.0);
+  for (int k = 0; k < 500; ++k) stepper.step(s, 2e-3, no_motor);
+  const Vec3 v = headVelocity(stepper, s);
+  std::printf("[jamming] towed across the axis: v = %.6e m/s, F/c = %.6e m/s, s = %.1e m\n",
+              v.norm(), kTow / kDrag, effect->pushedDistance());
+  EXPECT_LT(effect->pushedDistance(), 1e-9 * 1e-3);
+  EXPECT_NEAR(v.x(), kTow / kDrag, 1e-6 * kTow / kDrag);
 }
 
 // ---- com_offset --------------------------------------------------------------------------------

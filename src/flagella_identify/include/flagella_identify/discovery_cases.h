@@ -31,6 +31,7 @@ const DiscoveryCase& discoveryCaseByName(const std::string& name);
 struct GeneratedCase {
   MeasuredData data;
   std::map<std::string, double> truth;  ///< every drawn truth value, by parameter name
+  YAML::Node truth_config;              ///< the truth model's robot config (no overrides)
   std::string description;
 };
 

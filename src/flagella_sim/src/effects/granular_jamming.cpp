@@ -1,8 +1,9 @@
 #include "flagella_sim/effects/granular_jamming.h"
 
+#include <cmath>
 #include <stdexcept>
 
-#include "flagella_sim/effects/granular_yield.h"
+#include "flagella_sim/core/geometry.h"
 
 namespace flagella {
 
@@ -12,10 +13,13 @@ GranularJamming::GranularJamming() : Effect(kName) {
   release_force_ = params_.declare("release_force", 1e-3, 1e-9, 10.0, "N",
                                    "resistance F_r at which the jammed grains release");
   velocity_scale_ = params_.declare("velocity_scale", 1e-6, 1e-9, 1e-2, "m/s",
-                                    "regularisation speed v_s of the yield force's sign function");
+                                    "regularisation speed v_s of the resistance's sign function");
 }
 
-void GranularJamming::attach(const RodNetwork& net) { node_ = net.parts.head_center_node; }
+void GranularJamming::attach(const RodNetwork& net) {
+  front_ = net.parts.head_front_node;
+  node_ = net.parts.head_center_node;
+}
 
 double GranularJamming::resistance() const { return params_[stiffness_] * pushed_; }
 
@@ -28,15 +32,30 @@ void GranularJamming::setInternalState(const std::vector<double>& state) {
   setPushedDistance(state.at(0));
 }
 
+Vec3 GranularJamming::headAxis(const VecX& q) const {
+  return (nodePosition(q, node_) - nodePosition(q, front_)).normalized();
+}
+
 void GranularJamming::addForce(const EffectContext& ctx, VecX& force,
                                JacobianSink* jacobian) const {
-  // F = -(k_j s) v / sqrt(|v|^2 + v_s^2), s lagged
-  addRegularizedCoulombForce(ctx, node_, resistance(), params_[velocity_scale_], force, jacobian);
+  const double resistance = this->resistance();
+  if (resistance == 0.0) return;
+  const Vec3 axis = headAxis(ctx.q_start);  // lagged with s
+  const double v_axial = axis.dot(ctx.nodeVelocity(node_));
+  const double v_s = params_[velocity_scale_];
+  const double root = std::sqrt(v_axial * v_axial + v_s * v_s);
+  // F = -(k_j s) a (a.v)/sqrt((a.v)^2 + v_s^2)
+  force.segment<3>(3 * node_) -= (resistance * v_axial / root) * axis;
+  if (!jacobian) return;
+  // dF/dx_1 = (1/dt) dF/dv = -(k_j s/dt) a a^T v_s^2/((a.v)^2 + v_s^2)^(3/2)
+  const double slope = resistance * v_s * v_s / (root * root * root);
+  jacobian->addBlock(3 * node_, 3 * node_, (-slope / ctx.dt) * axis * axis.transpose());
 }
 
 void GranularJamming::acceptStep(const RodNetwork& /*net*/, const RodState& start,
                                  const RodState& end) {
-  pushed_ += (nodePosition(end.q, node_) - nodePosition(start.q, node_)).norm();  // s += |dx_1|
+  const Vec3 advance = nodePosition(end.q, node_) - nodePosition(start.q, node_);
+  pushed_ += std::abs(headAxis(start.q).dot(advance));         // s += |a.dx_1|
   if (resistance() >= params_[release_force_]) pushed_ = 0.0;  // k_j s >= F_r: grains release
 }
 

@@ -1,8 +1,11 @@
-// Stick-slip of the head in jammed grains (model extension for identification): a yield force
-// that grows with the distance s the head has been pushed since the last release,
-// F = -(k_j s) v/sqrt(|v|^2 + v_s^2) on x_1, and drops to zero (s = 0) once k_j s >= F_r.
-// s is lagged (its value at the start of the step), so the Jacobian is granular_yield's with
-// F_y = k_j s; it is updated after every accepted (sub)step: s += |x_1(t_{k+1}) - x_1(t_k)|.
+// Stick-slip of the head in jammed grains (model extension for identification): a resistance to
+// the head's advance along its own axis that grows with the distance s the head has pushed
+// since the last release, F = -(k_j s) a (a.v)/sqrt((a.v)^2 + v_s^2) on x_1, and drops to zero
+// (s = 0) once k_j s >= F_r. Only the axial motion loads the grains ahead of the head: the
+// sideways wobble of a spinning head neither builds nor meets this resistance.
+// The axis a = (x_1 - x_0)/|x_1 - x_0| and s are lagged (their values at the start of the
+// step), so dF/dx_1 = -(k_j s/dt) a a^T v_s^2/((a.v)^2 + v_s^2)^(3/2); after every accepted
+// (sub)step s += |a.(x_1(t_{k+1}) - x_1(t_k))|.
 #pragma once
 
 #include "flagella_sim/effects/effect.h"
@@ -19,15 +22,18 @@ class GranularJamming : public Effect {
   std::vector<double> internalState() const override { return {pushed_}; }
   void setInternalState(const std::vector<double>& state) override;
 
-  /// s: distance the head has been pushed since the last release [m].
+  /// s: distance the head has pushed along its axis since the last release [m].
   double pushedDistance() const { return pushed_; }
   void setPushedDistance(double s);
   /// Current resistance k_j s [N] (the yield force of the next step).
   double resistance() const;
 
  private:
+  /// Unit head axis x_1 - x_0 at the configuration q.
+  Vec3 headAxis(const VecX& q) const;
+
   int stiffness_ = 0, release_force_ = 0, velocity_scale_ = 0;
-  int node_ = 1;
+  int front_ = 0, node_ = 1;
   double pushed_ = 0.0;
 };
 
