@@ -1,6 +1,5 @@
 #include "flagella_identify/discovery_cases.h"
 
-#include <algorithm>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -122,12 +121,10 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
       double v = r.low == r.high ? r.low : logUniform(rng, r.low, r.high);
       if (r.random_sign && std::uniform_int_distribution<int>(0, 1)(rng) == 1) v = -v;
       // by name: the ranges need not list an effect's variables in the candidate's order
-      const auto& params = truth.parameters();
-      const auto it = std::find_if(params.begin(), params.end(),
-                                   [&](const FitParameter& p) { return p.name == r.variable; });
-      if (it == params.end())
+      const int index = truth.indexOf(r.variable);
+      if (index < 0)
         throw std::logic_error("strength range for unknown variable '" + r.variable + "'");
-      values[static_cast<size_t>(it - params.begin())] = v;
+      values[static_cast<size_t>(index)] = v;
       out.truth[r.variable] = v;
     }
   }

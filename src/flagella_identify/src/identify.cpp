@@ -10,8 +10,6 @@
 namespace flagella {
 namespace identify {
 
-namespace {}  // namespace
-
 std::string verdictText(Verdict v) {
   switch (v) {
     case Verdict::kNoDiscrepancy:
@@ -60,9 +58,8 @@ ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>
   out.label = effects.empty() ? "baseline" : joined(out.effects, " + ");
   // Start from the reference model's values where the parameters coincide.
   std::vector<double> values = model.values();
-  for (size_t i = 0; i < values.size(); ++i)
-    for (const FitParameter& p : reference.parameters)
-      if (p.name == model.parameters()[i].name) values[i] = p.value;
+  for (const FitParameter& p : reference.parameters)
+    if (const int i = model.indexOf(p.name); i >= 0) values[static_cast<size_t>(i)] = p.value;
   // Try each new candidate's start points with the others fixed; keep the best.
   size_t offset = model.baselineCount();
   for (const Candidate* c : effects) {

@@ -89,6 +89,12 @@ void Model::setValues(const std::vector<double>& values) {
   for (size_t i = 0; i < parameters_.size(); ++i) parameters_[i].value = values.at(i);
 }
 
+int Model::indexOf(const std::string& name) const {
+  for (size_t i = 0; i < parameters_.size(); ++i)
+    if (parameters_[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
 std::string Model::label() const {
   std::string s = "baseline";
   for (const Candidate* c : candidates_) s += " + " + c->name;

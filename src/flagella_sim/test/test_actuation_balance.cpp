@@ -195,21 +195,10 @@ TEST(ActuationBalance, LoneHeadReachesStokesVelocityAndSpin) {
   // (mass/drag ~ 1e-3 s against dt = 1e-2 s), so only the Newton tolerance (1e-8) remains.
   constexpr double kStokesTolerance = 1e-6;
   const RodMaterial material = testing::vpsMaterial();
-  NetworkBuilder b;
-  const int x0 = b.addNode(Vec3(0.0, 0.0, -a));
-  const int x1 = b.addNode(Vec3(0.0, 0.0, 0.0));
-  const int x2 = b.addNode(Vec3(0.0, 0.0, a));
-  const double rigid = 1e3;
-  const int e0 = b.addEdge(x0, x1, material, rigid);
-  const int e1 = b.addEdge(x1, x2, material, rigid);
-  b.addBendTwistSpring(e0, e1, material, rigid);
-  b.parts().head_front_node = x0;
-  b.parts().head_center_node = x1;
-  b.parts().joint_node = x2;
-  b.parts().head_edge = e0;
-  b.parts().shaft_edge = e1;
-  b.parts().motor_spring = -1;
-  const RodNetwork net = b.build(e0);
+  const RodNetwork net = testing::makeLoneHead(a, material);
+  const int x0 = net.parts.head_front_node, x1 = net.parts.head_center_node,
+            x2 = net.parts.joint_node;
+  const int e0 = net.parts.head_edge, e1 = net.parts.shaft_edge;
 
   const Vec3 F(1.0e-3, -2.0e-3, 3.0e-3);  // [N], oblique to the head axis
   const double M = 4.0e-5;                // [N m] about t^0

@@ -45,20 +45,7 @@ constexpr double kDrag = kCt * 6.0 * M_PI * kViscosity * kHeadRadius;
 RodNetwork loneHead(double density) {
   RodMaterial material = testing::vpsMaterial();
   material.density = density;
-  NetworkBuilder b;
-  const int x0 = b.addNode(Vec3(0.0, 0.0, -kHeadRadius));
-  const int x1 = b.addNode(Vec3(0.0, 0.0, 0.0));
-  const int x2 = b.addNode(Vec3(0.0, 0.0, kHeadRadius));
-  const int e0 = b.addEdge(x0, x1, material, 1e3);
-  const int e1 = b.addEdge(x1, x2, material, 1e3);
-  b.addBendTwistSpring(e0, e1, material, 1e3);
-  b.parts().head_front_node = x0;
-  b.parts().head_center_node = x1;
-  b.parts().joint_node = x2;
-  b.parts().head_edge = e0;
-  b.parts().shaft_edge = e1;
-  b.parts().motor_spring = -1;
-  return b.build(e0);
+  return testing::makeLoneHead(kHeadRadius, material);
 }
 
 /// Stepper for the lone head with Stokes head drag, a tow force F on x_1 and `extra` effects.

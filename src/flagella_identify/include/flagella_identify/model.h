@@ -32,6 +32,8 @@ class Model {
   const std::vector<FitParameter>& parameters() const { return parameters_; }
   std::vector<double> values() const { return valuesOf(parameters_); }
   void setValues(const std::vector<double>& values);
+  /// Position of the parameter called `name` in parameters(), or -1 if the model has none.
+  int indexOf(const std::string& name) const;
   int baselineCount() const { return baseline_count_; }
   /// A label: "baseline" or "baseline + granular_yield + ...".
   std::string label() const;

@@ -20,6 +20,24 @@ RodNetwork makeStraightRod(int edges, double length, const RodMaterial& material
   return b.build();
 }
 
+RodNetwork makeLoneHead(double half_length, const RodMaterial& material) {
+  constexpr double kRigid = 1e3;  // stiffness factor: the head does not deform
+  NetworkBuilder b;
+  const int x0 = b.addNode(Vec3(0.0, 0.0, -half_length));
+  const int x1 = b.addNode(Vec3(0.0, 0.0, 0.0));
+  const int x2 = b.addNode(Vec3(0.0, 0.0, half_length));
+  const int e0 = b.addEdge(x0, x1, material, kRigid);
+  const int e1 = b.addEdge(x1, x2, material, kRigid);
+  b.addBendTwistSpring(e0, e1, material, kRigid);
+  b.parts().head_front_node = x0;
+  b.parts().head_center_node = x1;
+  b.parts().joint_node = x2;
+  b.parts().head_edge = e0;
+  b.parts().shaft_edge = e1;
+  b.parts().motor_spring = -1;
+  return b.build(e0);
+}
+
 RodNetwork makeJunctionNetwork(const RodMaterial& material) {
   NetworkBuilder b;
   const int c = b.addNode(Vec3(0.0, 0.0, 0.0));

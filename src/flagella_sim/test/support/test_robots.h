@@ -18,6 +18,11 @@ RodNetwork makeStraightRod(int edges, double length, const RodMaterial& material
 /// combination exist. Rest shape is bent, so natural curvatures are non-zero.
 RodNetwork makeJunctionNetwork(const RodMaterial& material);
 
+/// A lone rigid head: nodes x_0, x_1, x_2 on the z axis at -half_length, 0, +half_length, two
+/// stiff edges (head edge e_0, shaft edge e_1) and a stiff spring between them; no tails and no
+/// motor spring, so loads on the head alone can be checked against closed forms.
+RodNetwork makeLoneHead(double half_length, const RodMaterial& material);
+
 /// q with every position moved by up to `amplitude` and every theta by up to `angle`.
 VecX perturbed(const RodNetwork& net, const VecX& q, double amplitude, double angle,
                std::mt19937& rng);
