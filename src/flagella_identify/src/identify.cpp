@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "text_format.h"
@@ -57,24 +58,32 @@ ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>
   }
   out.label = effects.empty() ? "baseline" : joined(out.effects, " + ");
   // Start from the reference model's values where the parameters coincide.
-  std::vector<double> values = model.values();
+  const std::vector<double> config_values = model.values();
+  std::vector<double> values = config_values;
   for (const FitParameter& p : reference.parameters)
     if (const int i = model.indexOf(p.name); i >= 0) values[static_cast<size_t>(i)] = p.value;
-  // Try each new candidate's start points with the others fixed; keep the best.
+  // Try each new candidate's start points with the others fixed; keep the best. Each start is
+  // tried with the baseline parameters at the reference's values and at the config's: the
+  // reference may have absorbed the effect (e.g. a stiffer head drag for a granular resistance),
+  // and a fit started there stays in that basin.
   size_t offset = model.baselineCount();
   for (const Candidate* c : effects) {
     const bool inherited = std::any_of(reference.effects.begin(), reference.effects.end(),
                                        [&](const std::string& n) { return n == c->name; });
     if (!inherited && !c->starts.empty()) {
+      std::vector<double> config_base = values;
+      std::copy(config_values.begin(), config_values.begin() + model.baselineCount(),
+                config_base.begin());
       std::vector<std::vector<double>> trials;
-      for (const std::vector<double>& start : c->starts) {
-        std::vector<double> v = values;
-        std::copy(start.begin(), start.end(), v.begin() + offset);
-        trials.push_back(v);
-      }
+      for (const std::vector<double>* base : {&values, &config_base})
+        for (const std::vector<double>& start : c->starts) {
+          std::vector<double> v = *base;
+          std::copy(start.begin(), start.end(), v.begin() + offset);
+          trials.push_back(v);
+        }
       const std::vector<Evaluation> evals = evaluator_.evaluateMany(model, trials, Part::kTrain);
       out.evaluations += static_cast<int>(trials.size());
-      double best = 1e300;
+      double best = std::numeric_limits<double>::infinity();
       for (size_t k = 0; k < trials.size(); ++k)
         if (evals[k].ok && chiSquare(evals[k]) < best) {
           best = chiSquare(evals[k]);

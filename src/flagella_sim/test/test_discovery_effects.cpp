@@ -143,8 +143,8 @@ TEST(GranularJamming, HeadTowedAlongItsAxisSticksAndSlipsWithTheSawtoothPeriod) 
     stepper.step(s, dt, no_motor);
     const Vec3 after = nodePosition(s.q, x1);
     pushed += (after - before).norm();
-    if (kStiffness * pushed >= kRelease) {  // the grains release
-      pushed = 0.0;
+    if (kStiffness * pushed >= kRelease) {  // the grains release at s_r; the rest carries over
+      pushed = std::fmod(pushed, cycle_distance);
       release_times.push_back(s.time);
       release_positions.push_back(after.z());
       peaks.push_back(resistance_before);
@@ -200,6 +200,48 @@ TEST(GranularJamming, HeadTowedAcrossItsAxisMeetsNoResistance) {
               v.norm(), kTow / kDrag, effect->pushedDistance());
   EXPECT_LT(effect->pushedDistance(), 1e-9 * 1e-3);
   EXPECT_NEAR(v.x(), kTow / kDrag, 1e-6 * kTow / kDrag);
+}
+
+TEST(GranularJamming, AHeadThatMustStopIsSolvedByTheDampedRetryWithoutSubdivision) {
+  // A heavy head coasting along its axis into jammed grains whose resistance exceeds the tow:
+  // the step must end (nearly) stuck. Plain Newton on the regularised sign function falls into a
+  // two-cycle between the saturated branches; the damped retry (line search) must solve the same
+  // step, and the result must satisfy the step's equation: a stuck head, |v| << the coasting speed.
+  constexpr double kTow = 0.5e-3, kResistance = 2e-3, kCoast = 5e-3;  // [N], [N], [m/s]
+  constexpr double dt = 0.05;
+  auto run = [&](bool damped, StepReport* report) {
+    auto jamming = std::make_unique<GranularJamming>();
+    jamming->parameters().set("stiffness", 1.0);
+    jamming->parameters().set("release_force", 1.0);  // no release within the test
+    jamming->setPushedDistance(kResistance / 1.0);
+    std::vector<EffectPtr> extra;
+    extra.push_back(std::move(jamming));
+    ImplicitStepper stepper = towedHead(Vec3(0.0, 0.0, kTow), std::move(extra), kTow);
+    stepper.options().damped_retry = damped;
+    stepper.options().max_subdivision_depth = 0;
+    RodState s = stepper.initialState();
+    for (int i = 0; i < stepper.network().numNodes(); ++i) s.qdot(3 * i + 2) = kCoast;
+    try {
+      *report = stepper.step(s, dt, ConstantMotor(0.0));
+    } catch (const SolverFailure& e) {
+      std::printf("[jamming] %s Newton: %s\n", damped ? "damped" : "plain", e.what());
+      return -1.0;
+    }
+    return headVelocity(stepper, s).norm();
+  };
+  StepReport plain_report, damped_report;
+  const double v_plain = run(false, &plain_report);
+  const double v_damped = run(true, &damped_report);
+  std::printf(
+      "[jamming] coasting head stopped by the grains: plain Newton %s, damped retry v = "
+      "%.3e m/s after %d iterations (%d damped)\n",
+      v_plain < 0.0 ? "failed" : "converged", v_damped, damped_report.newton_iterations,
+      damped_report.damped_retries);
+  EXPECT_LT(v_plain, 0.0) << "the scenario no longer needs the damped retry";
+  ASSERT_GE(v_damped, 0.0);
+  EXPECT_EQ(damped_report.damped_retries, 1);
+  EXPECT_EQ(damped_report.substeps, 1);
+  EXPECT_LT(v_damped, 1e-3 * kCoast);  // stuck: the resistance exceeds the tow
 }
 
 // ---- com_offset --------------------------------------------------------------------------------

@@ -77,6 +77,7 @@ std::string summaryJson(const SimulationConfig& c, const SummaryMetrics& m, doub
       m.efficiency_valid ? nlohmann::ordered_json(m.efficiency) : nlohmann::ordered_json(nullptr);
   j["newton_iterations"] = m.newton_iterations;
   j["subdivided_steps"] = m.subdivided_steps;
+  j["damped_steps"] = m.damped_steps;
   j["wall_time_s"] = wall_seconds;
   j["real_time_factor"] = wall_seconds > 0.0 ? m.window_end / wall_seconds : 0.0;
   return j.dump(2) + "\n";

@@ -77,6 +77,7 @@ SummaryMetrics summarize(const std::vector<TrajectorySample>& samples, const Sum
   }
   m.newton_iterations = samples.back().newton_iterations;
   m.subdivided_steps = samples.back().subdivided_steps;
+  m.damped_steps = samples.back().damped_steps;
   return m;
 }
 

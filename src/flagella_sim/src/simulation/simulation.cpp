@@ -47,6 +47,7 @@ StepReport Simulation::step() {
   last_omega_ = motor_->omega(state_.time);
   newton_iterations_ += r.newton_iterations;
   subdivided_steps_ += r.substeps > 1;
+  damped_steps_ += r.damped_retries;
   return r;
 }
 
@@ -104,6 +105,7 @@ TrajectorySample Simulation::sample() const {
   }
   s.newton_iterations = newton_iterations_;
   s.subdivided_steps = subdivided_steps_;
+  s.damped_steps = damped_steps_;
   if (record_nodes_)
     for (int i = 0; i < net.numNodes(); ++i) s.nodes.push_back(nodePosition(state_.q, i));
   return s;

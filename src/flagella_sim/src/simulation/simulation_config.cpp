@@ -129,6 +129,7 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
   o.residual_tolerance = r.number("residual_tolerance", o.residual_tolerance, 1e-14, 1.0);
   o.step_tolerance = r.number("step_tolerance", o.step_tolerance, 0.0, 1e-3);
   o.max_iterations = r.integer("max_iterations", o.max_iterations, 1, 1000);
+  o.damped_retry = r.flag("damped_retry", o.damped_retry);
   o.max_subdivision_depth = r.integer("max_subdivision_depth", o.max_subdivision_depth, 0, 20);
   o.extrapolate_initial_guess = r.flag("extrapolate_initial_guess", o.extrapolate_initial_guess);
   o.trace = r.flag("trace", o.trace);

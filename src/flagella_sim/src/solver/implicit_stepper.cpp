@@ -30,6 +30,15 @@ class NegatingSink : public JacobianSink {
 // tolerance (NewtonOptions::step_tolerance).
 constexpr double kStagnationResidualFactor = 1e3;
 
+// Damped retry (NewtonOptions::damped_retry): a step length is accepted when the scaled residual
+// drops by this fraction of it (Armijo); halved at most this many times (down to about 1e-4).
+constexpr double kArmijoFraction = 1e-4;
+constexpr int kMaxBacktracks = 14;
+// Plain Newton is stagnating when, from this iteration on, the residual is above this fraction
+// of its value two iterations earlier.
+constexpr int kStagnationCheckStart = 4;
+constexpr double kStagnationRatio = 0.5;
+
 }  // namespace
 
 ImplicitStepper::ImplicitStepper(RodNetwork net, std::vector<EffectPtr> effects, Medium medium,
@@ -118,8 +127,8 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
                                : std::numeric_limits<double>::infinity();
 }
 
-ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt,
-                                                    double motor_offset) {
+ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, double motor_offset,
+                                                    bool damped) {
   Attempt attempt;
   if (net_.parts.motor_spring >= 0)
     net_.bend_twist_springs[net_.parts.motor_spring].tau_bar = motor_tau_bar0_ + motor_offset;
@@ -133,6 +142,7 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt,
     state.q = q;
     state.frames = std::move(frames);
   };
+  double residual_history[3] = {0.0, 0.0, 0.0};  // of the last three iterates
   // The first pass always builds the Jacobian; later passes first check convergence with the
   // cheap residual-only evaluation and build the Jacobian only if another update is needed.
   for (int iter = 0; iter <= options_.max_iterations; ++iter) {
@@ -147,6 +157,12 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt,
       return attempt;
     }
     if (iter == options_.max_iterations) return attempt;
+    // Plain Newton that has stopped converging (a two-cycle) gives up early when the damped
+    // retry is there to take over.
+    residual_history[iter % 3] = attempt.residual;
+    if (!damped && options_.damped_retry && iter >= kStagnationCheckStart &&
+        attempt.residual > kStagnationRatio * residual_history[(iter + 1) % 3])
+      return attempt;
     if (iter > 0) evaluate(state, q, dt, frames, true);
     if (!analyzed_ || assembler_.patternChanged()) {
       lu_.analyze(assembler_.matrix());
@@ -155,8 +171,20 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt,
     }
     ++factorizations_;
     if (!lu_.factorize(assembler_.matrix())) return attempt;
-    const VecX dq = lu_.solve(residual_);
+    VecX dq = lu_.solve(residual_);
     if (!dq.allFinite()) return attempt;
+    if (damped) {
+      double length = 1.0;
+      for (int k = 0;; ++k) {
+        const VecX trial = q - length * dq;
+        const double r =
+            evaluate(state, trial, dt, transportFrames(net_, trial, state.frames), false);
+        if (r < (1.0 - kArmijoFraction * length) * attempt.residual) break;
+        if (k == kMaxBacktracks) return attempt;  // no descent along the Newton direction
+        length *= 0.5;
+      }
+      dq *= length;
+    }
     q -= dq;
     if (stepNorm(dq) < options_.step_tolerance &&
         attempt.residual < kStagnationResidualFactor * options_.residual_tolerance) {
@@ -190,14 +218,21 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, const Moto
   }
   // spec 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
   const double offset = state.motor_twist_offset + omega * dt;
-  const Attempt a = solveStep(trial, dt, offset);
+  Attempt a = solveStep(trial, dt, offset, false);
+  int damped_retries = 0;
+  if (!a.converged && options_.damped_retry) {
+    const Attempt plain = a;
+    a = solveStep(trial, dt, offset, true);  // trial is untouched by a failed attempt
+    a.iterations += plain.iterations;
+    damped_retries = a.converged ? 1 : 0;
+  }
   if (a.converged) {
     trial.time = t_next;
     trial.motor_twist_offset = offset;
     for (const EffectPtr& e : effects_) e->acceptStep(net_, state, trial);
     last_motor_speed_ = omega;
     state = std::move(trial);
-    return {a.iterations, 1, a.residual};
+    return {a.iterations, 1, a.residual, damped_retries};
   }
   if (depth >= options_.max_subdivision_depth) {
     std::ostringstream msg;
@@ -211,7 +246,8 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, const Moto
   StepReport second = stepRecursive(half, 0.5 * dt, motor, depth + 1);
   state = std::move(half);
   return {a.iterations + first.newton_iterations + second.newton_iterations,
-          first.substeps + second.substeps, second.residual};
+          first.substeps + second.substeps, second.residual,
+          first.damped_retries + second.damped_retries};
 }
 
 StepReport ImplicitStepper::step(RodState& state, double dt, const MotorCommand& motor) {

@@ -1,7 +1,8 @@
 // Stick-slip of the head in jammed grains (model extension for identification): a resistance to
 // the head's advance along its own axis that grows with the distance s the head has pushed
 // since the last release, F = -(k_j s) a (a.v)/sqrt((a.v)^2 + v_s^2) on x_1, and drops to zero
-// (s = 0) once k_j s >= F_r. Only the axial motion loads the grains ahead of the head: the
+// where k_j s reaches F_r (s = s_r = F_r/k_j; the distance pushed past s_r within the step carries
+// over: s = s mod s_r). Only the axial motion loads the grains ahead of the head: the
 // sideways wobble of a spinning head neither builds nor meets this resistance.
 // The axis a = (x_1 - x_0)/|x_1 - x_0| and s are lagged (their values at the start of the
 // step), so dF/dx_1 = -(k_j s/dt) a a^T v_s^2/((a.v)^2 + v_s^2)^(3/2); after every accepted

@@ -27,6 +27,7 @@ struct TrajectorySample {
   double yaw_rate = 0.0;       ///< its instantaneous rate [rad/s] (spec 7.1 omega_yr)
   long newton_iterations = 0;  ///< cumulative since t = 0
   long subdivided_steps = 0;   ///< cumulative count of steps that needed subdivision
+  long damped_steps = 0;       ///< cumulative count of (sub)steps solved by the damped retry
   std::vector<Vec3> nodes;     ///< all node positions (only if recorded)
 };
 
@@ -49,6 +50,7 @@ struct SummaryMetrics {
   bool efficiency_valid = false;
   long newton_iterations = 0;  ///< over the whole run
   long subdivided_steps = 0;   ///< over the whole run
+  long damped_steps = 0;       ///< over the whole run
 };
 
 struct SummaryInputs {

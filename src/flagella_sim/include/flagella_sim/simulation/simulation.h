@@ -67,6 +67,7 @@ class Simulation {
   double last_omega_ = 0.0;
   long newton_iterations_ = 0;
   long subdivided_steps_ = 0;
+  long damped_steps_ = 0;
 };
 
 /// The motor command a MotorSpec describes.

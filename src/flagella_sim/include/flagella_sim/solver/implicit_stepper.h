@@ -1,9 +1,10 @@
 // Fully implicit Euler step solved by Newton-Raphson on a sparse, generally non-symmetric
 // Jacobian (spec 1.10). The sparsity pattern and the LU symbolic analysis are reused across
 // iterations and steps. Failure strategy: a step whose Newton iteration does not converge (too
-// many iterations, a singular Jacobian, or a non-finite value) is retried as two half steps,
-// recursively up to NewtonOptions::max_subdivision_depth; if that fails too, SolverFailure is
-// thrown and the state is left at the last accepted step.
+// many iterations, a singular Jacobian, or a non-finite value) is retried once with a
+// backtracking line search (NewtonOptions::damped_retry), then as two half steps, recursively up
+// to NewtonOptions::max_subdivision_depth; if that fails too, SolverFailure is thrown and the
+// state is left at the last accepted step.
 #pragma once
 
 #include <memory>
@@ -29,6 +30,7 @@ struct StepReport {
   int newton_iterations = 0;  ///< summed over sub-steps
   int substeps = 1;           ///< 1 unless the step had to be subdivided
   double residual = 0.0;      ///< scaled residual at the end of the last sub-step
+  int damped_retries = 0;     ///< (sub)steps solved only by the line-search retry
 };
 
 class ImplicitStepper {
@@ -71,7 +73,9 @@ class ImplicitStepper {
     int iterations = 0;
     double residual = 0.0;
   };
-  Attempt solveStep(RodState& state, double dt, double motor_offset);
+  /// One Newton solve of the step; `damped`: backtrack each update until the scaled residual
+  /// decreases (Armijo), and give up if no step length below 1 decreases it.
+  Attempt solveStep(RodState& state, double dt, double motor_offset, bool damped);
   /// Fills residual_ (and the Jacobian in assembler_ if asked) at iterate q; returns the
   /// scaled residual (infinity if anything is not finite).
   double evaluate(const RodState& start, const VecX& q, double dt, const ReferenceFrames& frames,

@@ -13,6 +13,11 @@ struct NewtonOptions {
   /// already at round-off level) and the residual is within 1e3 x tolerance.
   double step_tolerance = 1e-12;
   int max_iterations = 25;
+  /// A step whose plain Newton iteration fails is first retried at the same dt with a
+  /// backtracking line search on the scaled residual (it breaks the two-cycles Newton falls into
+  /// on a regularised sign function, e.g. granular jamming at a stop). Steps that converge
+  /// without it are not affected.
+  bool damped_retry = true;
   /// On failure the step is split in two halves, recursively, up to this depth (2^depth pieces).
   int max_subdivision_depth = 6;
   double force_scale = 1.0;   ///< [N], e.g. EI/L^2 of a flexible tail
