@@ -9,10 +9,9 @@ namespace identify {
 namespace testing {
 
 TEST(DiscoverySeries, CentreOfMassOffsetPitchDrift) { expectFound("com_offset", 2); }
-// Known failure (README, Known limitations): with the stick-slip hidden (seeds 1-3) the
-// baseline misses the held-out data (RMS z 1.2-3.3), but the jamming fit either does not
-// extrapolate to the held-out -180 rpm phase or fails there (Newton at the reversal), so the
-// verdict is "unexplained residual": no wrong name, but not the hidden one.
+// Disabled (measured, README "Known limitations"): the truth model fits the data at the noise
+// level, but the joint fit settles where the calibrated baseline's head drag has absorbed most
+// of the resistance, so the verdict is "unexplained residual": no wrong name, not the hidden one.
 TEST(DiscoverySeries, DISABLED_GranularJammingStickSlip) { expectFound("granular_jamming", 2); }
 
 TEST(DiscoverySeries, EffectOutsideTheCandidateListIsAnUnexplainedResidual) {

@@ -35,7 +35,7 @@ constexpr double kStagnationResidualFactor = 1e3;
 constexpr double kArmijoFraction = 1e-4;
 constexpr int kMaxBacktracks = 14;
 // Plain Newton is stagnating when, from this iteration on, the residual is above this fraction
-// of its value two iterations earlier.
+// of its value two iterations earlier while still far from the tolerance (not round-off).
 constexpr int kStagnationCheckStart = 4;
 constexpr double kStagnationRatio = 0.5;
 
@@ -161,6 +161,7 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
     // retry is there to take over.
     residual_history[iter % 3] = attempt.residual;
     if (!damped && options_.damped_retry && iter >= kStagnationCheckStart &&
+        attempt.residual > kStagnationResidualFactor * options_.residual_tolerance &&
         attempt.residual > kStagnationRatio * residual_history[(iter + 1) % 3])
       return attempt;
     if (iter > 0) evaluate(state, q, dt, frames, true);
