@@ -58,9 +58,9 @@ void GranularJamming::acceptStep(const RodNetwork& /*net*/, const RodState& star
   pushed_ += std::abs(headAxis(start.q).dot(advance));  // s += |a.dx_1|
   // The grains release where k_j s reaches F_r, at s_r = F_r/k_j inside the step; the distance
   // pushed past s_r loads the next jam, so s (and the run) depends continuously on F_r and k_j.
-  const double stiffness = params_[stiffness_];
-  if (stiffness > 0.0 && stiffness * pushed_ >= params_[release_force_])
-    pushed_ = std::fmod(pushed_, params_[release_force_] / stiffness);
+  // (F_r > 0, so a release implies k_j > 0)
+  if (resistance() >= params_[release_force_])
+    pushed_ = std::fmod(pushed_, params_[release_force_] / params_[stiffness_]);
 }
 
 }  // namespace flagella
