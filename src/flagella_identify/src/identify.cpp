@@ -193,8 +193,15 @@ IdentifyResult Identification::run() {
 
   std::optional<ModelOutcome> chosen;
   if (best) chosen = *best;
-  // One effect not enough: add a second one to the best and keep it if it is significant.
-  if (chosen && chosen->noise_z > kSignificanceZ && options_.max_effects >= 2) {
+  // One effect not enough: add a second one to the best and keep it if it is significant. Only
+  // a first effect that explains a sizeable share can mask a second one; when the best single
+  // effect explains little, a second effect would have shown on its own.
+  const bool pairable = chosen && chosen->noise_z > kSignificanceZ && options_.max_effects >= 2;
+  if (pairable && chosen->explained < kPairingShare)
+    say("the best single effect (" + chosen->label +
+        formatted(") explains only %.1f %% of the excess (< %.0f %%); no pairs tried",
+                  100.0 * chosen->explained, 100.0 * kPairingShare));
+  if (pairable && chosen->explained >= kPairingShare) {
     say(formatted("the best single effect explains %.1f %% of the excess and leaves a significant "
                   "residual; trying pairs with ",
                   100.0 * chosen->explained) +

@@ -9,9 +9,9 @@ namespace identify {
 namespace testing {
 
 TEST(DiscoverySeries, CentreOfMassOffsetPitchDrift) { expectFound("com_offset", 2); }
-// Disabled (measured, README "Known limitations"): the truth model fits the data at the noise
-// level, but the joint fit settles where the calibrated baseline's head drag has absorbed most
-// of the resistance, so the verdict is "unexplained residual": no wrong name, not the hidden one.
+// Disabled (measured, README "Known limitations"): the fit of jamming alone settles at a wrong
+// release distance (training chi^2 828 against 784 at the truth) that mispredicts the held-out
+// phase, and the tool names granular_yield + granular_jamming for this seed: one cause too many.
 TEST(DiscoverySeries, DISABLED_GranularJammingStickSlip) { expectFound("granular_jamming", 2); }
 
 TEST(DiscoverySeries, EffectOutsideTheCandidateListIsAnUnexplainedResidual) {

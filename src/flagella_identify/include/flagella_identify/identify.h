@@ -94,6 +94,10 @@ class Identification {
 /// held-out excess chi^2 (a cause is named only then).
 constexpr double kExplainedShare = 0.9;
 
+/// A second effect is tried with the best single one only when that one removes at least this
+/// share of the baseline's held-out excess (a weaker first effect cannot mask a second one).
+constexpr double kPairingShare = 0.25;
+
 /// Chi-square critical value at p = 1e-3 for k degrees of freedom (k >= 1).
 double chiSquareCritical(int k);
 
