@@ -12,9 +12,16 @@ namespace {
 
 constexpr double kRpm = 2.0 * M_PI / 60.0;
 
-/// Sample k of a grid with spacing dt, on a nanosecond lattice: no drift from summing dt, so a
+/// The times k dt in [0, duration], on a nanosecond lattice: no drift from summing dt, so a
 /// command step at a multiple of the spacing falls on the same sample in every grid.
-double gridTime(int k, double dt) { return std::round(k * dt * 1e9) * 1e-9; }
+std::vector<double> gridTimes(double dt, double duration) {
+  std::vector<double> times;
+  for (int k = 0;; ++k) {
+    const double t = std::round(k * dt * 1e9) * 1e-9;
+    if (t > duration + 1e-9) return times;
+    times.push_back(t);
+  }
+}
 
 double commandAt(const SeriesPlan& plan, double t) {
   double omega = plan.command_rpm.front().second;
@@ -78,8 +85,7 @@ TimeSeries generateSeries(const Model& truth, const SeriesPlan& plan, std::uint6
   // sampling of the command; the data record the nominal command at the video samples.
   TimeSeries fine;
   const double fine_dt = std::min(plan.sample_interval, 0.1);
-  for (int k = 0; gridTime(k, fine_dt) <= plan.duration + 1e-9; ++k) {
-    const double t = gridTime(k, fine_dt);
+  for (const double t : gridTimes(fine_dt, plan.duration)) {
     fine.t.push_back(t);
     const double ripple =
         1.0 + plan.ripple_fraction * std::sin(2.0 * M_PI * t / plan.ripple_period);
@@ -105,8 +111,7 @@ TimeSeries generateSeries(const Model& truth, const SeriesPlan& plan, std::uint6
     const auto it = std::lower_bound(trace.t.begin(), trace.t.end(), t - 1e-9);
     return std::min<size_t>(it - trace.t.begin(), trace.t.size() - 1);
   };
-  for (int i = 0; gridTime(i, plan.sample_interval) <= plan.duration + 1e-9; ++i) {
-    const double t = gridTime(i, plan.sample_interval);
+  for (const double t : gridTimes(plan.sample_interval, plan.duration)) {
     const size_t k = traceIndex(t);
     s.t.push_back(t);
     s.omega_cmd.push_back(commandAt(plan, t));
