@@ -73,8 +73,14 @@ std::vector<Candidate> makeCandidates() {
     c.needs = kTranslation | kTimeResolved;
     c.variables = {variable("granular_jamming.stiffness", "N/m", 1e-4, 1e3, true),
                    variable("granular_jamming.release_force", "N", 1e-7, 1.0, true)};
-    for (double stiffness : {0.3, 1.0, 3.0})  // a grid: the fit of a stick-slip is multimodal
-      for (double release : {3e-4, 1e-3, 3e-3}) c.starts.push_back({stiffness, release});
+    // A grid: the fit of a stick-slip is multimodal. Whether the head stops at a command depends
+    // on F_r against the thrust there, so the training cost has a narrow valley in F_r: steps of
+    // 10^0.1 (26 %) resolve commands whose thrusts differ by 1.3-2x. Release distances
+    // s_r = F_r/k_j of 0.3, 1 and 3 mm.
+    for (int i = 0; i <= 12; ++i) {
+      const double release = 2.5e-4 * std::pow(10.0, 0.1 * i);  // 0.25-4 mN
+      for (double distance : {3e-4, 1e-3, 3e-3}) c.starts.push_back({release / distance, release});
+    }
     c.apply = [](YAML::Node& cfg, const std::vector<double>& v, double) {
       setEffect(cfg, "granular_jamming", {{"stiffness", v[0]}, {"release_force", v[1]}});
     };
