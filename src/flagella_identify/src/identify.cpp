@@ -197,11 +197,11 @@ IdentifyResult Identification::run() {
   // a first effect that explains a sizeable share can mask a second one; when the best single
   // effect explains little, a second effect would have shown on its own.
   const bool pairable = chosen && chosen->noise_z > kSignificanceZ && options_.max_effects >= 2;
-  if (pairable && chosen->explained < kPairingShare)
+  if (pairable && chosen->explained < kPairingShare) {
     say("the best single effect (" + chosen->label +
         formatted(") explains only %.1f %% of the excess (< %.0f %%); no pairs tried",
                   100.0 * chosen->explained, 100.0 * kPairingShare));
-  if (pairable && chosen->explained >= kPairingShare) {
+  } else if (pairable) {
     say(formatted("the best single effect explains %.1f %% of the excess and leaves a significant "
                   "residual; trying pairs with ",
                   100.0 * chosen->explained) +
