@@ -13,7 +13,7 @@
 
 #include "flagella_sim/actuation/motor_command.h"
 #include "flagella_sim/robots/multi_tail_robot.h"
-#include "flagella_sim/simulation/effect_factory.h"
+#include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
 #include "flagella_sim/solver/implicit_stepper.h"
@@ -58,7 +58,7 @@ SimulationConfig design1(const std::vector<std::string>& overrides = {}) {
 
 ImplicitStepper makeStepper(const SimulationConfig& c) {
   std::vector<EffectPtr> effects;
-  for (const EffectSpec& spec : c.effects) effects.push_back(makeEffect(spec, c));
+  for (const EffectSpec& spec : c.effects) effects.push_back(makeEffect(spec, c.medium, c.robotDimensions()));
   return ImplicitStepper(buildMultiTailRobot(c.geometry), std::move(effects), c.medium, c.solver);
 }
 

@@ -97,6 +97,11 @@ int main(int argc, char** argv) {
   CLI::App* params_cmd = app.add_subcommand("params", "list the named parameters of a config");
   addCommon(params_cmd, params);
 
+  bool effects_markdown = false;
+  CLI::App* effects_cmd =
+      app.add_subcommand("effects", "list every effect a config can switch on, with its schema");
+  effects_cmd->add_flag("--markdown", effects_markdown, "print the README's effect table");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*run_cmd) {
@@ -112,6 +117,7 @@ int main(int argc, char** argv) {
       return beamCommand(beam);
     }
     if (*params_cmd) return paramsCommand(params);
+    if (*effects_cmd) return effectsCommand(effects_markdown);
   } catch (const flagella::ConfigError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "flagella_sim/beam/euler_bernoulli_beam.h"
+#include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/outputs/output_writers.h"
 #include "flagella_sim/simulation/simulation.h"
 
@@ -219,7 +220,7 @@ int beamCommand(const BeamOptions& o) {
   d.C_r = probe.parameter("effects.stokes_head.C_r");
   d.head_radius = probe.parameter("effects.stokes_head.head_radius");
   for (const EffectSpec& e : c.effects)
-    if (e.name == "rft") d.log_form = parseRftLogForm(e.log_form);
+    if (e.name == "rft") d.log_form = parseRftLogForm(e.option("log_form"));
   const double omega = std::abs(c.motor.omega);
   std::vector<beam::BeamRegime> regimes;
   if (o.regime == "LB" || o.regime == "all") regimes.push_back(beam::BeamRegime::kLinear);
@@ -259,6 +260,34 @@ int paramsCommand(const CommonOptions& o) {
     const ParameterSpec& p = sim.parameterSpec(name);
     std::printf("%-45s %14.6g %14.6g %14.6g  %s\n", name.c_str(), p.value, p.min, p.max,
                 p.unit.c_str());
+  }
+  return 0;
+}
+
+int effectsCommand(bool markdown) {
+  if (markdown) {
+    std::cout << effectTableMarkdown();
+    return 0;
+  }
+  for (const EffectDescriptor* d : effectRegistry()) {
+    std::printf("%s: %s\n", d->name.c_str(), d->description.c_str());
+    for (const EffectOption& o : d->options) {
+      std::string choices = o.isFlag() ? "true, false" : "";
+      for (const std::string& a : o.allowed) choices += (choices.empty() ? "" : ", ") + a;
+      std::printf("  option    %-22s one of: %s (default %s)\n", o.name.c_str(), choices.c_str(),
+                  o.fallback.c_str());
+    }
+    for (const ParameterSpec& p : d->parameters) {
+      const std::string rule = d->defaultRule(p.name);
+      std::printf("  parameter %-22s [%g, %g] %s, default %s: %s\n", p.name.c_str(), p.min, p.max,
+                  p.unit.c_str(),
+                  rule.empty() ? std::to_string(p.value).c_str() : rule.c_str(),
+                  p.description.c_str());
+    }
+    if (d->discovery)
+      for (const FittableParameter& v : d->discovery->variables)
+        std::printf("  discovery %-22s fitted in [%g, %g] %s%s\n", v.variable.c_str(), v.lower,
+                    v.upper, v.unit.c_str(), v.log_scale ? " (log scale)" : "");
   }
   return 0;
 }

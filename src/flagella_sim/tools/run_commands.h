@@ -33,5 +33,8 @@ int runCommand(const RunOptions& o);
 int sweepCommand(const SweepOptions& o);
 int beamCommand(const BeamOptions& o);
 int paramsCommand(const CommonOptions& o);
+/// Lists every registered effect (options, parameters, discovery variables); `markdown`: the
+/// README's effect table.
+int effectsCommand(bool markdown);
 
 }  // namespace flagella::cli

@@ -34,6 +34,12 @@ int ParameterSet::indexOf(const std::string& name) const {
   return -1;
 }
 
+int ParameterSet::index(const std::string& name) const {
+  const int i = indexOf(name);
+  if (i < 0) throw std::logic_error("parameter '" + name + "' is not declared");
+  return i;
+}
+
 bool ParameterSet::has(const std::string& name) const { return indexOf(name) >= 0; }
 
 double ParameterSet::get(const std::string& name) const {

@@ -2,14 +2,55 @@
 
 #include <cmath>
 
+
 namespace flagella {
 
-ComOffset::ComOffset(double head_mass) : Effect(kName) {
-  offset_ =
-      params_.declare("offset", 0.0, -0.1, 0.1, "m",
-                      "axial COM - buoyancy offset l, positive along +t^0 (toward the tails)");
-  head_mass_ = params_.declare("head_mass", head_mass, kMinHeadMass, kMaxHeadMass, "kg",
-                               "head mass m_h (default rho_m pi a^2 L_head)");
+ComOffset::ComOffset(double head_mass) : Effect(kName, comOffsetEffect().parameters) {
+  offset_ = parameterIndex("offset");
+  head_mass_ = parameterIndex("head_mass");
+  params_.set("head_mass", head_mass, name());
+}
+
+namespace {
+// m_h = rho_m pi a^2 L_head (spec 5) unless the config gives it (then any in-range value serves
+// until the configured one is set).
+double defaultHeadMass(const EffectBuildContext& b) {
+  if (b.spec.hasParameter("head_mass")) return ComOffset::kMinHeadMass;
+  const double a = b.robot.head_radius;
+  const double m = b.medium.density() * M_PI * a * a * b.robot.head_length;  // spec 5
+  if (!(m >= ComOffset::kMinHeadMass && m <= ComOffset::kMaxHeadMass))
+    throw ConfigError(rangeMessage("effects.com_offset.head_mass (default rho_m pi a^2 L_head)", m,
+                                   ComOffset::kMinHeadMass, ComOffset::kMaxHeadMass, "kg") +
+                      "; give effects.com_offset.head_mass");
+  return m;
+}
+}  // namespace
+
+const EffectDescriptor& comOffsetEffect() {
+  static const EffectDescriptor d = [] {
+    EffectDescriptor e;
+    e.name = ComOffset::kName;
+    e.description = "gravity couple from an axial offset of the head's centre of mass";
+    e.parameters = {{"offset", 0.0, -0.1, 0.1, "m",
+                     "axial COM - buoyancy offset l, positive along +t^0 (toward the tails)"},
+                    {"head_mass", 0.05, ComOffset::kMinHeadMass, ComOffset::kMaxHeadMass, "kg",
+                     "head mass m_h (default rho_m pi a^2 L_head)"}};
+    e.default_rules = {{"head_mass", "medium.density pi robot.head_radius^2 robot.head_length"}};
+    e.make = [](const EffectBuildContext& c) {
+      return std::make_unique<ComOffset>(defaultHeadMass(c));
+    };
+    DiscoveryHints h;
+    h.title = "centre-of-mass offset with gravity and buoyancy";
+    h.signature = "drift in pitch: the head axis tilts and the path climbs or dives";
+    h.needs = kVertical | kTimeResolved;
+    h.variables = {{"offset", "offset", false, "m", -0.05, 0.05, false}};
+    h.starts = {{-2e-3}, {2e-3}};
+    h.typical = {{"offset", 1e-3, 4e-3, true}};
+    h.steady_table_data = false;
+    e.discovery = h;
+    return e;
+  }();
+  return d;
 }
 
 void ComOffset::attach(const RodNetwork& net) {

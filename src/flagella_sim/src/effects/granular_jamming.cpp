@@ -7,13 +7,44 @@
 
 namespace flagella {
 
-GranularJamming::GranularJamming() : Effect(kName) {
-  stiffness_ = params_.declare("stiffness", 0.0, 0.0, 1e3, "N/m",
-                               "jamming stiffness k_j: resistance gained per metre pushed");
-  release_force_ = params_.declare("release_force", 1e-3, 1e-9, 10.0, "N",
-                                   "resistance F_r at which the jammed grains release");
-  velocity_scale_ = params_.declare("velocity_scale", 1e-6, 1e-9, 1e-2, "m/s",
-                                    "regularisation speed v_s of the resistance's sign function");
+GranularJamming::GranularJamming() : Effect(kName, granularJammingEffect().parameters) {
+  stiffness_ = parameterIndex("stiffness");
+  release_force_ = parameterIndex("release_force");
+  velocity_scale_ = parameterIndex("velocity_scale");
+}
+
+const EffectDescriptor& granularJammingEffect() {
+  static const EffectDescriptor d = [] {
+    EffectDescriptor e;
+    e.name = GranularJamming::kName;
+    e.description = "granular stick-slip: head resistance builds with distance pushed, then releases";
+    e.parameters = {{"stiffness", 0.0, 0.0, 1e3, "N/m",
+                     "jamming stiffness k_j: resistance gained per metre pushed"},
+                    {"release_force", 1e-3, 1e-9, 10.0, "N",
+                     "resistance F_r at which the jammed grains release"},
+                    {"velocity_scale", 1e-6, 1e-9, 1e-2, "m/s",
+                     "regularisation speed v_s of the resistance's sign function"}};
+    e.make = [](const EffectBuildContext&) { return std::make_unique<GranularJamming>(); };
+    DiscoveryHints h;
+    h.title = "granular stick-slip (jamming and release)";
+    h.signature = "intermittency: the head slows to a stop while resistance builds, then surges";
+    h.needs = kTranslation | kTimeResolved;
+    h.variables = {{"stiffness", "stiffness", false, "N/m", 1e-4, 1e3, true},
+                   {"release_force", "release_force", false, "N", 1e-7, 1.0, true}};
+    // A grid: the fit of a stick-slip is multimodal. Whether the head stops at a command depends
+    // on F_r against the thrust there, so the training cost has a narrow valley in F_r: steps of
+    // 10^0.1 (26 %) resolve commands whose thrusts differ by 1.3-2x. Release distances
+    // s_r = F_r/k_j of 0.3, 1 and 3 mm.
+    for (int i = 0; i <= 12; ++i) {
+      const double release = 2.5e-4 * std::pow(10.0, 0.1 * i);  // 0.25-4 mN
+      for (double distance : {3e-4, 1e-3, 3e-3}) h.starts.push_back({release / distance, release});
+    }
+    h.typical = {{"release_force", 1.5e-3, 3e-3, false}, {"stiffness", 0.8, 3.0, false}};
+    h.steady_table_data = false;
+    e.discovery = h;
+    return e;
+  }();
+  return d;
 }
 
 void GranularJamming::attach(const RodNetwork& net) {

@@ -15,11 +15,32 @@ void addRegularizedCoulombForce(const EffectContext& ctx, int node, double yield
   jacobian->addBlock(3 * node, 3 * node, dF_dv / ctx.dt);
 }
 
-GranularYield::GranularYield() : Effect(kName) {
-  yield_force_ = params_.declare("yield_force", 0.0, 0.0, 10.0, "N",
-                                 "granular yield force F_y resisting head translation");
-  velocity_scale_ = params_.declare("velocity_scale", 1e-6, 1e-9, 1e-2, "m/s",
-                                    "regularisation speed v_s of the yield force's sign function");
+GranularYield::GranularYield() : Effect(kName, granularYieldEffect().parameters) {
+  yield_force_ = parameterIndex("yield_force");
+  velocity_scale_ = parameterIndex("velocity_scale");
+}
+
+const EffectDescriptor& granularYieldEffect() {
+  static const EffectDescriptor d = [] {
+    EffectDescriptor e;
+    e.name = GranularYield::kName;
+    e.description = "granular yield stress: no head translation below a thrust threshold";
+    e.parameters = {{"yield_force", 0.0, 0.0, 10.0, "N",
+                     "granular yield force F_y resisting head translation"},
+                    {"velocity_scale", 1e-6, 1e-9, 1e-2, "m/s",
+                     "regularisation speed v_s of the yield force's sign function"}};
+    e.make = [](const EffectBuildContext&) { return std::make_unique<GranularYield>(); };
+    DiscoveryHints h;
+    h.title = "granular yield threshold";
+    h.signature = "threshold: no translation below a motor speed, full speed above it";
+    h.needs = kTranslation;
+    h.variables = {{"yield_force", "yield_force", false, "N", 1e-7, 1.0, true}};
+    h.starts = {{1e-5}, {1e-4}, {1e-3}};
+    h.typical = {{"yield_force", 3e-4, 9e-4, false}};
+    e.discovery = h;
+    return e;
+  }();
+  return d;
 }
 
 void GranularYield::attach(const RodNetwork& net) { node_ = net.parts.head_center_node; }

@@ -1,10 +1,27 @@
 #include "flagella_sim/effects/gravity.h"
 
+
 namespace flagella {
 
-Gravity::Gravity(double body_density) : Effect(kName) {
-  body_density_ = params_.declare("body_density", body_density, 1e-3, 1e5, "kg/m^3",
-                                  "density of the robot's material (sets buoyancy)");
+Gravity::Gravity(double body_density) : Effect(kName, gravityEffect().parameters) {
+  body_density_ = parameterIndex("body_density");
+  params_.set("body_density", body_density, name());
+}
+
+const EffectDescriptor& gravityEffect() {
+  static const EffectDescriptor d = [] {
+    EffectDescriptor e;
+    e.name = Gravity::kName;
+    e.description = "gravity minus buoyancy on every node's lumped mass";
+    e.parameters = {{"body_density", 1000.0, 1e-3, 1e5, "kg/m^3",
+                     "density of the robot's material (sets buoyancy)"}};
+    e.default_rules = {{"body_density", "robot.density"}};
+    e.make = [](const EffectBuildContext& c) {
+      return std::make_unique<Gravity>(c.robot.body_density);
+    };
+    return e;
+  }();
+  return d;
 }
 
 void Gravity::addForce(const EffectContext& ctx, VecX& force, JacobianSink* /*jacobian*/) const {

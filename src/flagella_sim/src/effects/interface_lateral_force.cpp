@@ -22,11 +22,57 @@ double integratedLateralCoefficient(double onset_over_radius, double sharpness) 
 }
 
 InterfaceLateralForce::InterfaceLateralForce(double C_yr, double head_radius, double head_length)
-    : Effect(kName) {
-  c_yr_ =
-      params_.declare("C_yr", C_yr, -1e4, 1e4, "", "lateral rotation-induced force coefficient");
-  radius_ = params_.declare("head_radius", head_radius, 1e-6, 10.0, "m", "head radius R");
-  length_ = params_.declare("head_length", head_length, 1e-6, 10.0, "m", "head length L_head");
+    : Effect(kName, interfaceLateralForceEffect().parameters) {
+  c_yr_ = parameterIndex("C_yr");
+  radius_ = parameterIndex("head_radius");
+  length_ = parameterIndex("head_length");
+  params_.set("C_yr", C_yr, name());
+  params_.set("head_radius", head_radius, name());
+  params_.set("head_length", head_length, name());
+}
+
+namespace {
+EffectPtr makeInterfaceLateralForce(const EffectBuildContext& b) {
+  double c_yr = 0.0;
+  if (b.spec.option("mode") == "integrated") {
+    if (b.spec.hasParameter("C_yr"))
+      throw ConfigError(
+          "effects.interface_lateral_force.C_yr is computed in mode 'integrated'; remove it or use "
+          "mode 'fitted'");
+    // spec 3.3: C_yr from the viscosity profile integral I(h/R, k)
+    const InterfaceViscosityProfile& p = b.medium.profile;
+    c_yr = integratedLateralCoefficient(p.onset_height / p.length_scale, p.sharpness);
+  }
+  return std::make_unique<InterfaceLateralForce>(c_yr, b.robot.head_radius, b.robot.head_length);
+}
+}  // namespace
+
+const EffectDescriptor& interfaceLateralForceEffect() {
+  static const EffectDescriptor d = [] {
+    EffectDescriptor e;
+    e.name = InterfaceLateralForce::kName;
+    e.description = "lateral force on a head spinning at an air-liquid interface";
+    e.options = {{"mode", "fitted", {"fitted", "integrated"},
+                  "C_yr given (fitted) or from the viscosity profile (integrated)"}};
+    e.parameters = {{"C_yr", 0.0, -1e4, 1e4, "", "lateral rotation-induced force coefficient"},
+                    {"head_radius", 0.02, 1e-6, 10.0, "m", "head radius R"},
+                    {"head_length", 0.04, 1e-6, 10.0, "m", "head length L_head"}};
+    e.default_rules = {{"C_yr", "0 (mode fitted), the profile integral (mode integrated)"},
+                       {"head_radius", "robot.head_radius"},
+                       {"head_length", "robot.head_length"}};
+    e.make = makeInterfaceLateralForce;
+    DiscoveryHints h;
+    h.title = "depth-dependent viscosity near an interface (lateral head force)";
+    h.signature = "circling: a steady yaw rate that reverses with the sign of rotation";
+    h.needs = kHeading;
+    h.variables = {{"C_yr", "C_yr", false, "", -50.0, 50.0, false}};
+    h.starts = {{-1e-1}, {-1e-2}, {-1e-3}, {1e-3}, {1e-2}, {1e-1}};  // both signs, three decades
+    h.typical = {{"C_yr", 2e-3, 8e-3, true}};
+    h.steady_table_data = false;
+    e.discovery = h;
+    return e;
+  }();
+  return d;
 }
 
 void InterfaceLateralForce::attach(const RodNetwork& net) {
@@ -37,7 +83,7 @@ void InterfaceLateralForce::attach(const RodNetwork& net) {
 
 void InterfaceLateralForce::addForce(const EffectContext& ctx, VecX& force,
                                      JacobianSink* jacobian) const {
-  const double c = params_[c_yr_] * ctx.medium.viscosity() * params_[radius_] * params_[length_];
+  const double c = params_[c_yr_] * ctx.viscosity * params_[radius_] * params_[length_];
   const Vec3 e = nodePosition(ctx.q, center_) - nodePosition(ctx.q, front_);
   const double len = e.norm();
   const Vec3 axis = e / len;

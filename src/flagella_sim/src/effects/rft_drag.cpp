@@ -3,9 +3,25 @@
 namespace flagella {
 
 RftDrag::RftDrag(RftLogForm form, bool use_interface_profile)
-    : Effect(kName), form_(form), use_profile_(use_interface_profile) {
-  drag_scale_ =
-      params_.declare("drag_scale", 1.0, 0.0, 1e3, "", "multiplier on both RFT drag coefficients");
+    : Effect(kName, rftDragEffect().parameters), form_(form), use_profile_(use_interface_profile) {
+  drag_scale_ = parameterIndex("drag_scale");
+}
+
+const EffectDescriptor& rftDragEffect() {
+  static const EffectDescriptor d = [] {
+    EffectDescriptor e;
+    e.name = RftDrag::kName;
+    e.description = "resistive force theory on the tails, granular or viscous";
+    e.options = {{"log_form", "2L/r0", {"2L/r0", "L/r0"}, "logarithm of the RFT coefficients"},
+                 {"use_interface_profile", "false", {}, "per-node viscosity from medium.interface_profile"}};
+    e.parameters = {{"drag_scale", 1.0, 0.0, 1e3, "", "multiplier on both RFT drag coefficients"}};
+    e.make = [](const EffectBuildContext& c) {
+      return std::make_unique<RftDrag>(parseRftLogForm(c.spec.option("log_form")),
+                                       c.spec.flag("use_interface_profile"));
+    };
+    return e;
+  }();
+  return d;
 }
 
 void RftDrag::attach(const RodNetwork& net) {
@@ -63,7 +79,7 @@ void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jaco
     s /= edge_count;
     const double s_norm = s.norm();
     const Vec3 that = s / s_norm;
-    const RftCoefficients c = coefficients(n, ctx.medium.viscosity());
+    const RftCoefficients c = coefficients(n, ctx.viscosity);
     const double height = x.dot(ctx.medium.up);
     const double mu_factor = use_profile_ ? ctx.medium.profile.factor(height) : 1.0;
     const double scale = params_[drag_scale_] * mu_factor;

@@ -2,12 +2,34 @@
 
 #include <cmath>
 
+
 namespace flagella {
 
-StokesHeadDrag::StokesHeadDrag(double C_t, double C_r, double head_radius) : Effect(kName) {
-  c_t_ = params_.declare("C_t", C_t, 0.0, 1e4, "", "head translational drag prefactor");
-  c_r_ = params_.declare("C_r", C_r, 0.0, 1e4, "", "head rotational drag prefactor");
-  radius_ = params_.declare("head_radius", head_radius, 1e-6, 10.0, "m", "head radius a");
+StokesHeadDrag::StokesHeadDrag(double C_t, double C_r, double head_radius)
+    : Effect(kName, stokesHeadDragEffect().parameters) {
+  c_t_ = parameterIndex("C_t");
+  c_r_ = parameterIndex("C_r");
+  radius_ = parameterIndex("head_radius");
+  params_.set("C_t", C_t, name());
+  params_.set("C_r", C_r, name());
+  params_.set("head_radius", head_radius, name());
+}
+
+const EffectDescriptor& stokesHeadDragEffect() {
+  static const EffectDescriptor d = [] {
+    EffectDescriptor e;
+    e.name = StokesHeadDrag::kName;
+    e.description = "Stokes drag and torque on the rigid head";
+    e.parameters = {{"C_t", 1.0, 0.0, 1e4, "", "head translational drag prefactor"},
+                    {"C_r", 1.0, 0.0, 1e4, "", "head rotational drag prefactor"},
+                    {"head_radius", 0.02, 1e-6, 10.0, "m", "head radius a"}};
+    e.default_rules = {{"head_radius", "robot.head_radius"}};
+    e.make = [](const EffectBuildContext& c) {
+      return std::make_unique<StokesHeadDrag>(1.0, 1.0, c.robot.head_radius);
+    };
+    return e;
+  }();
+  return d;
 }
 
 void StokesHeadDrag::attach(const RodNetwork& net) {
@@ -16,7 +38,7 @@ void StokesHeadDrag::attach(const RodNetwork& net) {
 }
 
 void StokesHeadDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const {
-  const double mu = ctx.medium.viscosity();
+  const double mu = ctx.viscosity;
   const double a = params_[radius_];
   const double trans = params_[c_t_] * 6.0 * M_PI * mu * a;             // spec 3.1
   const double rot = params_[c_r_] * 8.0 * M_PI * mu * std::pow(a, 3);  // spec 3.1

@@ -202,9 +202,15 @@ double bendTwistEnergy(const RodNetwork& net, const VecX& q, const ReferenceFram
 
 void addBendTwistGradientHessian(const RodNetwork& net, const VecX& q,
                                  const ReferenceFrames& frames, VecX& gradient,
-                                 SparseAssembler* hessian) {
+                                 SparseAssembler* hessian, const NaturalTwistOverride& twist) {
+  BendTwistSpring driven;
+  if (twist.spring >= 0) {
+    driven = net.bend_twist_springs.at(twist.spring);
+    driven.tau_bar = twist.tau_bar;
+  }
   for (size_t i = 0; i < net.bend_twist_springs.size(); ++i) {
-    const BendTwistSpring& s = net.bend_twist_springs[i];
+    const BendTwistSpring& s =
+        static_cast<int>(i) == twist.spring ? driven : net.bend_twist_springs[i];
     const SpringEnergyTerms terms =
         bendTwistTerms(springGeometry(net, s, q, frames, static_cast<int>(i)), s, hessian);
     const SpringDofMap map = springDofMap(net, s);

@@ -48,8 +48,6 @@ void SessionOptions::validate() const {
 SimSession::SimSession(SimulationConfig config, SessionOptions options)
     : config_(std::move(config)),
       options_((options.validate(), std::move(options))),
-      config_motor_(makeMotor(config_.motor)),
-      motor_gate_(motorGateOptions(options_)),
       slider_gate_(sliderGateOptions(options_)),
       imu_(options_.imu, config_.medium.gravity),
       camera_(options_.camera),
@@ -59,48 +57,45 @@ SimSession::SimSession(SimulationConfig config, SessionOptions options)
 
 void SimSession::start() {
   sim_ = std::make_unique<Simulation>(config_);
-  sim_->setMotor(std::make_shared<CallbackMotor>([this](double) { return applied_motor_; }));
+  // Commands go to the simulation's motor; until the first one it follows the config's schedule
+  // ("config") or stands still ("stopped").
+  sim_->motor().takeCommands(motorGateOptions(options_), options_.initial_motor == "config");
   head_motion_.clear();
   const TrajectorySample s = sim_->sample();
   head_motion_.update(s.time, s.head_orientation, s.head_velocity);
-  applied_motor_ = 0.0;
   halted_ = false;
 }
 
 void SimSession::reset() {
-  motor_gate_.clear();
   slider_gate_.clear();
   steps_ = solver_failures_ = 0;
   last_failure_.clear();
   start();
 }
 
-CommandVerdict SimSession::commandMotor(double omega) { return motor_gate_.submit(omega, time()); }
+CommandVerdict SimSession::commandMotor(double omega) {
+  return sim_->motor().command(omega, time());
+}
 
 CommandVerdict SimSession::commandSlider(double position) {
   return slider_gate_.submit(position, time());
 }
 
-double SimSession::motorSetPoint() const {
-  if (!motor_gate_.hasCommand() && options_.initial_motor == "config")
-    return config_motor_->omega(time() + config_.dt);
-  return motor_gate_.output(time());
-}
-
 bool SimSession::step() {
   if (halted_) return false;
-  applied_motor_ = motorSetPoint();
   try {
     sim_->step();
   } catch (const SolverFailure& first) {
     ++solver_failures_;
     last_failure_ = first.what();
-    applied_motor_ = 0.0;
+    Motor& motor = sim_->motor();
+    motor.setStopped(true);
     try {
       sim_->step();
+      motor.setStopped(false);
     } catch (const SolverFailure& second) {
+      motor.setStopped(false);
       last_failure_ = std::string(second.what()) + " (also with the motor stopped: halted)";
-      applied_motor_ = sim_->lastMotorCommand();  // what the last completed step used
       halted_ = true;
       return false;
     }
@@ -130,16 +125,17 @@ SessionHealth SimSession::health() const {
   h.newton_iterations = s.newton_iterations;
   h.subdivided_steps = s.subdivided_steps;
   h.solver_failures = solver_failures_;
-  h.motor_accepted = motor_gate_.acceptedCount();
-  h.motor_rejected = motor_gate_.rejectedCount();
+  const CommandGate& motor_gate = *sim_->motor().gate();
+  h.motor_accepted = motor_gate.acceptedCount();
+  h.motor_rejected = motor_gate.rejectedCount();
   h.slider_accepted = slider_gate_.acceptedCount();
   h.slider_rejected = slider_gate_.rejectedCount();
-  h.failsafe_active = motor_gate_.failsafeTripped(time());
+  h.failsafe_active = motor_gate.failsafeTripped(time());
   h.halted = halted_;
-  h.motor_applied = applied_motor_;
+  h.motor_applied = sim_->lastMotorCommand();
   h.slider_position = slider_gate_.output(time());
-  h.last_rejection = motor_gate_.lastRejection().empty() ? slider_gate_.lastRejection()
-                                                         : motor_gate_.lastRejection();
+  h.last_rejection = motor_gate.lastRejection().empty() ? slider_gate_.lastRejection()
+                                                        : motor_gate.lastRejection();
   h.last_solver_failure = last_failure_;
   if (halted_) {
     h.level = HealthLevel::Error;

@@ -5,7 +5,7 @@
 #include "flagella_sim/core/geometry.h"
 #include "flagella_sim/outputs/fits.h"
 #include "flagella_sim/rod/rod_kinematics.h"
-#include "flagella_sim/simulation/effect_factory.h"
+#include "flagella_sim/effects/effect_registry.h"
 
 namespace flagella {
 
@@ -13,7 +13,8 @@ namespace {
 
 std::vector<EffectPtr> makeEffects(const SimulationConfig& c) {
   std::vector<EffectPtr> effects;
-  for (const EffectSpec& spec : c.effects) effects.push_back(makeEffect(spec, c));
+  const RobotDimensions robot = c.robotDimensions();
+  for (const EffectSpec& spec : c.effects) effects.push_back(makeEffect(spec, c.medium, robot));
   return effects;
 }
 
@@ -39,12 +40,13 @@ Simulation::Simulation(const SimulationConfig& config)
                config.solver),
       motor_(makeMotor(config.motor)),
       state_(stepper_.initialState()) {
+  motor_.setSpeedLaws(stepper_.motorSpeedLaws());
   recordSample();
 }
 
 StepReport Simulation::step() {
-  const StepReport r = stepper_.step(state_, config_.dt, *motor_);
-  last_omega_ = motor_->omega(state_.time);
+  motor_.beginStep(state_.time, config_.dt);
+  const StepReport r = stepper_.step(state_, config_.dt, motor_);
   newton_iterations_ += r.newton_iterations;
   subdivided_steps_ += r.substeps > 1;
   damped_steps_ += r.damped_retries;
@@ -85,8 +87,8 @@ TrajectorySample Simulation::sample() const {
   s.tail_angle = state_.q(net.thetaIndex(parts.shaft_edge));
   s.omega_h = state_.qdot(net.thetaIndex(parts.head_edge));
   s.omega_t = state_.qdot(net.thetaIndex(parts.shaft_edge));
-  s.omega_T = last_omega_;
-  s.omega_motor = stepper_.lastMotorSpeed();
+  s.omega_T = motor_.lastCommand();
+  s.omega_motor = motor_.lastSpeed();
   // Yaw of the forward direction -t^0 about the vertical, and its exact rate from the
   // velocities of x_0, x_1: d(t)/dt = (I - t t^T)(v_1 - v_0)/|e^0|.
   const Vec3& up = stepper_.medium().up;
@@ -140,7 +142,7 @@ ParameterSet& Simulation::parameterOwner(const std::string& name, std::string& l
   const std::string effects_prefix = "effects.";
   if (name.rfind(medium_prefix, 0) == 0) {
     local = name.substr(medium_prefix.size());
-    return stepper.medium().parameters();
+    return stepper.mediumParameters();
   }
   if (name.rfind(effects_prefix, 0) == 0) {
     const std::string rest = name.substr(effects_prefix.size());

@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "flagella_sim/core/yaml_fields.h"
-#include "flagella_sim/simulation/effect_factory.h"
+#include "flagella_sim/effects/effect_registry.h"
 
 namespace flagella {
 
@@ -69,23 +69,20 @@ void parseMedium(FieldReader r, SimulationConfig& c) {
   r.rejectUnknown();
 }
 
-EffectSpec parseEffect(FieldReader r, const std::string& name) {
+// The effect's descriptor gives its schema: structural options first, every remaining field
+// is a named parameter (its range is checked when the effect is built, see makeEffect).
+EffectSpec parseEffect(FieldReader r, const EffectDescriptor& d) {
   EffectSpec e;
-  e.name = name;
-  // Structural options first; every remaining field is a named parameter of the effect.
-  if (name == "rft") {
-    e.log_form = r.choice("log_form", "2L/r0", {"2L/r0", "L/r0"});
-    e.use_interface_profile = r.flag("use_interface_profile", false);
+  e.name = d.name;
+  for (const EffectOption& o : d.options) {
+    const std::string value = o.isFlag()
+                                  ? (r.flag(o.name, o.fallback == "true") ? "true" : "false")
+                                  : r.choice(o.name, o.fallback, o.allowed);
+    e.options.emplace_back(o.name, value);
   }
-  if (name == "interface_lateral_force")
-    e.lateral_mode = r.choice("mode", "fitted", {"fitted", "integrated"});
-  // Ranges of parameters are the effect's own (checked when the effect is built).
   constexpr double kAnyFinite = std::numeric_limits<double>::max();
   for (const std::string& key : r.keys()) {
-    const bool structural =
-        (name == "rft" && (key == "log_form" || key == "use_interface_profile")) ||
-        (name == "interface_lateral_force" && key == "mode");
-    if (structural) continue;
+    if (d.findOption(key)) continue;
     e.parameters.emplace_back(key, r.number(key, 0.0, -kAnyFinite, kAnyFinite));
   }
   return e;
@@ -93,14 +90,13 @@ EffectSpec parseEffect(FieldReader r, const std::string& name) {
 
 void parseEffects(FieldReader r, SimulationConfig& c) {
   for (const std::string& name : r.keys()) {
-    bool known = false;
-    for (const std::string& k : knownEffectNames()) known = known || k == name;
-    if (!known) {
+    const EffectDescriptor* d = findEffectDescriptor(name);
+    if (!d) {
       std::string list;
-      for (const std::string& k : knownEffectNames()) list += (list.empty() ? "" : ", ") + k;
+      for (const std::string& k : registeredEffectNames()) list += (list.empty() ? "" : ", ") + k;
       throw ConfigError("unknown effect '" + r.field(name) + "' (known: " + list + ")");
     }
-    c.effects.push_back(parseEffect(r.child(name), name));
+    c.effects.push_back(parseEffect(r.child(name), *d));
   }
 }
 
@@ -144,12 +140,12 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
 
 }  // namespace
 
-const std::vector<std::string>& knownEffectNames() {
-  static const std::vector<std::string> names{
-      "rft", "stokes_head", "interface_lateral_force", "gravity", "head_restraint",
-      // model extensions for the identification tool
-      "granular_yield", "granular_jamming", "com_offset", "viscosity_drift", "dc_motor"};
-  return names;
+RobotDimensions SimulationConfig::robotDimensions() const {
+  RobotDimensions d;
+  d.head_radius = head_radius;
+  d.head_length = head_length;
+  d.body_density = geometry.tail_material.density;
+  return d;
 }
 
 SimulationConfig parseSimulationConfig(const YAML::Node& root, const std::string& source) {
@@ -163,11 +159,12 @@ SimulationConfig parseSimulationConfig(const YAML::Node& root, const std::string
   parseSimulation(top.child("simulation"), c);
   parseSolver(top.child("solver"), c);
   top.rejectUnknown();
+  const RobotDimensions robot = c.robotDimensions();
+  for (const EffectSpec& spec : c.effects) makeEffect(spec, c.medium, robot);  // validates values
   return c;
 }
 
-SimulationConfig loadSimulationConfig(const std::string& path,
-                                      const std::vector<std::string>& overrides) {
+YAML::Node loadConfigTree(const std::string& path, const std::vector<std::string>& overrides) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -179,9 +176,19 @@ SimulationConfig loadSimulationConfig(const std::string& path,
   }
   try {
     for (const std::string& o : overrides) applyOverride(root, o);
-    SimulationConfig config = parseSimulationConfig(root, path);
-    for (const EffectSpec& spec : config.effects) makeEffect(spec, config);  // validates parameters
-    return config;
+  } catch (const ConfigError& e) {
+    throw ConfigError(path + ": " + e.what());
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(path + ": " + e.what());
+  }
+  return root;
+}
+
+SimulationConfig loadSimulationConfig(const std::string& path,
+                                      const std::vector<std::string>& overrides) {
+  const YAML::Node root = loadConfigTree(path, overrides);
+  try {
+    return parseSimulationConfig(root, path);
   } catch (const ConfigError& e) {
     throw ConfigError(path + ": " + e.what());
   } catch (const YAML::Exception& e) {

@@ -50,11 +50,17 @@ ImplicitStepper::ImplicitStepper(RodNetwork net, std::vector<EffectPtr> effects,
       assembler_(net_.ndof()) {
   if (net_.parts.motor_spring >= 0)
     motor_tau_bar0_ = net_.bend_twist_springs.at(net_.parts.motor_spring).tau_bar;
+  motor_twist_ = {net_.parts.motor_spring, motor_tau_bar0_};
+  attempt_viscosity_ = medium_.viscosity();
   for (bool fixed : net_.fixed_dof) any_fixed_ = any_fixed_ || fixed;
-  for (const EffectPtr& e : effects_) {
-    e->attach(net_);
-    any_motor_shaping_ = any_motor_shaping_ || e->shapesMotorSpeed();
-  }
+  for (const EffectPtr& e : effects_) e->attach(net_);
+}
+
+std::vector<const Effect*> ImplicitStepper::motorSpeedLaws() const {
+  std::vector<const Effect*> laws;
+  for (const EffectPtr& e : effects_)
+    if (e->shapesMotorSpeed()) laws.push_back(e.get());
+  return laws;
 }
 
 Effect* ImplicitStepper::findEffect(const std::string& name) const {
@@ -110,10 +116,10 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
     for (int i = 0; i < net_.ndof(); ++i) assembler_.add(i, i, net_.lumped_mass(i) / (dt * dt));
   }
   addStretchingGradientHessian(net_, q, residual_, hessian);
-  addBendTwistGradientHessian(net_, q, frames, residual_, hessian);
+  addBendTwistGradientHessian(net_, q, frames, residual_, hessian, motor_twist_);
   external_.setZero(net_.ndof());
   NegatingSink sink(assembler_);
-  const EffectContext ctx{net_, q, frames, q0, v0, dt, start.time + dt, medium_};
+  const EffectContext ctx{net_, q, frames, q0, v0, dt, start.time + dt, medium_, attempt_viscosity_};
   for (const EffectPtr& e : effects_) e->addForce(ctx, external_, with_jacobian ? &sink : nullptr);
   residual_ -= external_;
   if (with_jacobian) {
@@ -128,10 +134,10 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
 }
 
 ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, double motor_offset,
-                                                    bool damped) {
+                                                    double viscosity, bool damped) {
   Attempt attempt;
-  if (net_.parts.motor_spring >= 0)
-    net_.bend_twist_springs[net_.parts.motor_spring].tau_bar = motor_tau_bar0_ + motor_offset;
+  motor_twist_.tau_bar = motor_tau_bar0_ + motor_offset;
+  attempt_viscosity_ = viscosity;
   const VecX& q0 = state.q;
   VecX q = options_.extrapolate_initial_guess ? VecX(q0 + dt * state.qdot) : q0;
   for (int i = 0; i < q.size(); ++i)
@@ -197,20 +203,17 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
   return attempt;
 }
 
-StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, const MotorCommand& motor,
-                                          int depth) {
+StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& motor, int depth) {
   RodState trial = state;
   const double t_next = state.time + dt;
   // Effect hooks of this (sub)step: viscosity factor (product) and motor speed (chained).
   double viscosity_factor = 1.0;
   for (const EffectPtr& e : effects_) viscosity_factor *= e->viscosityFactor(t_next);
-  medium_.setViscosityFactor(viscosity_factor);
-  const double command = motor.omega(t_next);
+  const double viscosity = medium_.viscosity() * viscosity_factor;
+  const double command = motor.commandAt(t_next);
   double omega = command;
-  if (any_motor_shaping_ && std::isfinite(command)) {
-    const MotorLoad load = motorLoad(state, command, t_next);
-    for (const EffectPtr& e : effects_) omega = e->motorSpeed(omega, load);
-  }
+  if (motor.needsLoad() && std::isfinite(command))
+    omega = motor.speed(command, motorLoad(state, command, t_next));
   if (!std::isfinite(omega)) {
     std::ostringstream msg;
     msg << "motor " << (std::isfinite(command) ? "speed" : "command") << " is not finite (" << omega
@@ -219,11 +222,11 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, const Moto
   }
   // spec 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
   const double offset = state.motor_twist_offset + omega * dt;
-  Attempt a = solveStep(trial, dt, offset, false);
+  Attempt a = solveStep(trial, dt, offset, viscosity, false);
   int damped_retries = 0;
   if (!a.converged && options_.damped_retry) {
     const Attempt plain = a;
-    a = solveStep(trial, dt, offset, true);  // trial is untouched by a failed attempt
+    a = solveStep(trial, dt, offset, viscosity, true);  // trial is untouched by a failed attempt
     a.iterations += plain.iterations;
     damped_retries = a.converged ? 1 : 0;
   }
@@ -231,7 +234,8 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, const Moto
     trial.time = t_next;
     trial.motor_twist_offset = offset;
     for (const EffectPtr& e : effects_) e->acceptStep(net_, state, trial);
-    last_motor_speed_ = omega;
+    motor.recordApplied(command, omega);
+    viscosity_factor_ = viscosity_factor;
     state = std::move(trial);
     return {a.iterations, 1, a.residual, damped_retries};
   }
@@ -251,26 +255,23 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, const Moto
           first.damped_retries + second.damped_retries};
 }
 
-StepReport ImplicitStepper::step(RodState& state, double dt, const MotorCommand& motor) {
+StepReport ImplicitStepper::step(RodState& state, double dt, Motor& motor) {
   if (!(dt > 0.0) || !std::isfinite(dt)) {
     std::ostringstream msg;
     msg << "time step must be > 0 and finite, got " << dt;
     throw SolverFailure(msg.str());
   }
   // What a failed step must put back besides `state`: sub-steps accepted before the failure
-  // have already advanced the motor twist, the effects' internal state and the medium.
+  // have already advanced the effects' internal state and the motor's record.
   std::vector<std::vector<double>> effect_states;
   effect_states.reserve(effects_.size());
   for (const EffectPtr& e : effects_) effect_states.push_back(e->internalState());
-  const double viscosity_factor = medium_.viscosityFactor();
-  const double motor_speed = last_motor_speed_;
+  const double viscosity_factor = viscosity_factor_;
+  const Motor::Record motor_record = motor.record();
   auto restore = [&] {
-    if (net_.parts.motor_spring >= 0)
-      net_.bend_twist_springs[net_.parts.motor_spring].tau_bar =
-          motor_tau_bar0_ + state.motor_twist_offset;
     for (size_t i = 0; i < effects_.size(); ++i) effects_[i]->setInternalState(effect_states[i]);
-    medium_.setViscosityFactor(viscosity_factor);
-    last_motor_speed_ = motor_speed;
+    viscosity_factor_ = viscosity_factor;
+    motor.restore(motor_record);
   };
   try {
     return stepRecursive(state, dt, motor, 0);  // assigns state only when the whole step succeeded

@@ -30,6 +30,8 @@ class ParameterSet {
   int declare(const std::string& name, double value, double min, double max,
               const std::string& unit, const std::string& description);
   double operator[](int index) const { return specs_[index].value; }
+  /// Index of a declared parameter; throws std::logic_error if there is none of that name.
+  int index(const std::string& name) const;
   bool has(const std::string& name) const;
   double get(const std::string& name) const;
   /// Sets a value; throws ConfigError naming `context.name` and the range if out of range or

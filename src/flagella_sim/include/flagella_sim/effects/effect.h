@@ -24,6 +24,8 @@ struct EffectContext {
   double dt = 0.0;
   double time = 0.0;  ///< t_{k+1}
   const Medium& medium;
+  /// Viscosity during this (sub)step [Pa s]: the medium's mu0 times the effects' factors.
+  double viscosity = 0.0;
 
   /// Implicit velocity of DOF i: (q_i - q_i(t_k))/dt (spec 1.10).
   double rate(int i) const { return (q(i) - q_start(i)) / dt; }
@@ -56,7 +58,12 @@ class JacobianSink {
 
 class Effect {
  public:
-  explicit Effect(std::string name) : name_(std::move(name)) {}
+  /// Declares the parameters of `schema` (an effect's descriptor) with their defaults and ranges.
+  explicit Effect(std::string name, const std::vector<ParameterSpec>& schema = {})
+      : name_(std::move(name)) {
+    for (const ParameterSpec& p : schema)
+      params_.declare(p.name, p.value, p.min, p.max, p.unit, p.description);
+  }
   virtual ~Effect() = default;
   const std::string& name() const { return name_; }
   ParameterSet& parameters() { return params_; }
@@ -70,18 +77,19 @@ class Effect {
 
   // Optional hooks; the defaults do nothing, so an effect only overrides what it models.
   // Composition when several effects use the same hook: the stepper multiplies the viscosity
-  // factors, and chains motorSpeed in the order the effects are listed (each scales the speed
-  // the previous one returned, i.e. the product of their speed factors).
+  // factors, and the motor chains motorSpeed in the order the effects are listed (each scales
+  // the speed the previous one returned, i.e. the product of their speed factors).
 
   /// Multiplier on the medium's configured viscosity during the (sub)step ending at `time`
-  /// (t_{k+1}). The stepper sets the product over all effects with Medium::setViscosityFactor
-  /// before every (sub)step, so every effect reading ctx.medium.viscosity() sees it.
+  /// (t_{k+1}): effect-owned state of a time-varying medium. The stepper passes the product over
+  /// all effects to every effect as EffectContext::viscosity (the Medium stays constant).
   virtual double viscosityFactor(double /*time*/) const { return 1.0; }
-  /// Motor speed applied to the natural twist (spec 1.9) during the (sub)step ending at
+  /// Torque-speed law of the motor (Motor chains these): the speed applied to the natural
+  /// twist (spec 1.9) during the (sub)step ending at
   /// load.time, given the speed `omega` requested upstream (the command, or the previous
   /// effect's result) [rad/s].
   virtual double motorSpeed(double omega, const MotorLoad& /*load*/) const { return omega; }
-  /// True for effects that override motorSpeed: the stepper evaluates the motor load (one
+  /// True for effects that override motorSpeed: the stepper evaluates the motor's load (one
   /// spring's bending-twisting terms per step) only when some effect needs it.
   virtual bool shapesMotorSpeed() const { return false; }
   /// Called after every accepted (sub)step with the states at its start and end: the place to
@@ -94,6 +102,8 @@ class Effect {
   virtual void setInternalState(const std::vector<double>& /*state*/) {}
 
  protected:
+  /// Index of a parameter declared from the schema (for fast access in addForce).
+  int parameterIndex(const std::string& name) const { return params_.index(name); }
   ParameterSet params_;
 
  private:

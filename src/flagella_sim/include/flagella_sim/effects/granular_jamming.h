@@ -10,8 +10,12 @@
 #pragma once
 
 #include "flagella_sim/effects/effect.h"
+#include "flagella_sim/effects/effect_descriptor.h"
 
 namespace flagella {
+
+/// The registry entry (effect_list.def).
+const EffectDescriptor& granularJammingEffect();
 
 class GranularJamming : public Effect {
  public:

@@ -4,8 +4,12 @@
 #pragma once
 
 #include "flagella_sim/effects/effect.h"
+#include "flagella_sim/effects/effect_descriptor.h"
 
 namespace flagella {
+
+/// The registry entry (effect_list.def).
+const EffectDescriptor& granularYieldEffect();
 
 /// Adds F = -F_y v/s, s = sqrt(|v|^2 + v_s^2), v = ctx.nodeVelocity(node), to `node` and, if
 /// `jacobian` is given, the exact dF/dx = -(F_y/dt)(I/s - v v^T/s^3) (always the same entries).

@@ -4,8 +4,12 @@
 #pragma once
 
 #include "flagella_sim/effects/effect.h"
+#include "flagella_sim/effects/effect_descriptor.h"
 
 namespace flagella {
+
+/// The registry entry (effect_list.def).
+const EffectDescriptor& interfaceLateralForceEffect();
 
 /// -I(h/R, k) with I = integral_0^{2pi} sin(phi) mu(R sin phi)/mu0 dphi (spec 3.3).
 double integratedLateralCoefficient(double onset_over_radius, double sharpness);

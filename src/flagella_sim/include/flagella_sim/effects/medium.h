@@ -26,15 +26,10 @@ class Medium {
   Medium();
   ParameterSet& parameters() { return params_; }
   const ParameterSet& parameters() const { return params_; }
-  /// mu [Pa s]: the configured parameter mu0 times the runtime factor (1 unless an effect such
-  /// as viscosity_drift sets it).
-  double viscosity() const { return params_[viscosity_] * viscosity_factor_; }
+  /// mu0 [Pa s], the configured bulk viscosity. A time-varying viscosity (viscosity_drift) is
+  /// effect-owned state: effects read the current value from EffectContext::viscosity.
+  double viscosity() const { return params_[viscosity_]; }
   double density() const { return params_[density_]; }  ///< rho_m [kg/m^3]
-  /// Runtime multiplier on the viscosity parameter, set by the stepper before every (sub)step
-  /// from the effects' Effect::viscosityFactor. The parameter itself is untouched, so
-  /// "medium.viscosity" stays mu0 and can still be changed between steps.
-  void setViscosityFactor(double factor) { viscosity_factor_ = factor; }
-  double viscosityFactor() const { return viscosity_factor_; }
 
   Vec3 up = Vec3::UnitZ();               ///< unit world vertical, from liquid into air
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< [m/s^2]
@@ -44,7 +39,6 @@ class Medium {
   ParameterSet params_;
   int viscosity_ = 0;
   int density_ = 0;
-  double viscosity_factor_ = 1.0;
 };
 
 }  // namespace flagella

@@ -6,9 +6,13 @@
 #include <vector>
 
 #include "flagella_sim/effects/effect.h"
+#include "flagella_sim/effects/effect_descriptor.h"
 #include "flagella_sim/effects/rft_coefficients.h"
 
 namespace flagella {
+
+/// The registry entry (effect_list.def).
+const EffectDescriptor& rftDragEffect();
 
 class RftDrag : public Effect {
  public:

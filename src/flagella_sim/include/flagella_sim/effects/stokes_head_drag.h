@@ -3,8 +3,12 @@
 #pragma once
 
 #include "flagella_sim/effects/effect.h"
+#include "flagella_sim/effects/effect_descriptor.h"
 
 namespace flagella {
+
+/// The registry entry (effect_list.def).
+const EffectDescriptor& stokesHeadDragEffect();
 
 class StokesHeadDrag : public Effect {
  public:

@@ -25,11 +25,18 @@ SpringEnergyTerms bendTwistTerms(const SpringGeometry& g, const BendTwistSpring&
 
 double bendTwistEnergy(const RodNetwork& net, const VecX& q, const ReferenceFrames& frames);
 
+/// A spring whose natural twist is not the network's: the motor spring, driven by the motor
+/// (spec 1.9). spring < 0: none.
+struct NaturalTwistOverride {
+  int spring = -1;
+  double tau_bar = 0.0;
+};
+
 /// Adds the gradient (and Hessian if non-null) of all bending-twisting springs, mapping the
 /// local representation back to global DOFs with the orientation signs (spec 1.6).
 void addBendTwistGradientHessian(const RodNetwork& net, const VecX& q,
                                  const ReferenceFrames& frames, VecX& gradient,
-                                 SparseAssembler* hessian);
+                                 SparseAssembler* hessian, const NaturalTwistOverride& twist = {});
 
 /// Global DOF index of each local spring DOF and the sign mapping local to global.
 struct SpringDofMap {

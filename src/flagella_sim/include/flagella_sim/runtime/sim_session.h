@@ -84,19 +84,15 @@ class SimSession {
 
  private:
   void start();
-  double motorSetPoint() const;
 
   SimulationConfig config_;
   SessionOptions options_;
-  std::unique_ptr<Simulation> sim_;
-  std::shared_ptr<const MotorCommand> config_motor_;
-  CommandGate motor_gate_;
+  std::unique_ptr<Simulation> sim_;  ///< its motor takes the commands (Motor::takeCommands)
   CommandGate slider_gate_;
   ImuModel imu_;
   CameraModel camera_;
   HeadMotionTracker head_motion_;
   Eigen::Quaterniond output_from_sim_;
-  double applied_motor_ = 0.0;
   bool halted_ = false;
   long steps_ = 0, solver_failures_ = 0;
   std::string last_failure_;

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "flagella_sim/actuation/motor_command.h"
+#include "flagella_sim/actuation/motor.h"
 #include "flagella_sim/outputs/trajectory.h"
 #include "flagella_sim/simulation/simulation_config.h"
 #include "flagella_sim/solver/implicit_stepper.h"
@@ -18,9 +18,13 @@ class Simulation {
  public:
   explicit Simulation(const SimulationConfig& config);
 
-  /// Replaces the motor command source (controllers plug in here).
-  void setMotor(std::shared_ptr<const MotorCommand> motor) { motor_ = std::move(motor); }
-  const MotorCommand& motor() const { return *motor_; }
+  /// Replaces the motor's schedule (controllers plug in here).
+  void setMotor(std::shared_ptr<const MotorCommand> schedule) {
+    motor_.setSchedule(std::move(schedule));
+  }
+  /// The motor: commands in, natural-twist rate out (actuation/motor.h).
+  Motor& motor() { return motor_; }
+  const Motor& motor() const { return motor_; }
 
   /// One step of config().dt. Throws SolverFailure (state unchanged) if Newton cannot recover.
   StepReport step();
@@ -49,22 +53,24 @@ class Simulation {
   const ImplicitStepper& stepper() const { return stepper_; }
   const RodNetwork& network() const { return stepper_.network(); }
   double time() const { return state_.time; }
-  double lastMotorCommand() const { return last_omega_; }
+  /// Motor command of the last step [rad/s].
+  double lastMotorCommand() const { return motor_.lastCommand(); }
   /// Motor speed applied in the last step (the command unless an effect such as dc_motor
   /// modifies it) [rad/s].
-  double lastMotorSpeed() const { return stepper_.lastMotorSpeed(); }
+  double lastMotorSpeed() const { return motor_.lastSpeed(); }
+  /// Viscosity of the last step [Pa s] (medium.viscosity times any drift).
+  double currentViscosity() const { return stepper_.currentViscosity(); }
 
  private:
   ParameterSet& parameterOwner(const std::string& name, std::string& local) const;
 
   SimulationConfig config_;
   ImplicitStepper stepper_;
-  std::shared_ptr<const MotorCommand> motor_;
+  Motor motor_;
   RodState state_;
   std::vector<TrajectorySample> trajectory_;
   bool record_nodes_ = false;
   double next_sample_time_ = 0.0;
-  double last_omega_ = 0.0;
   long newton_iterations_ = 0;
   long subdivided_steps_ = 0;
   long damped_steps_ = 0;

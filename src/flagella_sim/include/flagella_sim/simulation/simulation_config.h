@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "flagella_sim/effects/effect_descriptor.h"
 #include "flagella_sim/effects/medium.h"
 #include "flagella_sim/effects/rft_coefficients.h"
 #include "flagella_sim/robots/multi_tail_robot.h"
@@ -19,15 +20,6 @@ struct MotorSpec {
   double positive_duration = 1.0;  ///< binary: time at +omega [s]
   double negative_duration = 1.0;  ///< binary: time at -omega [s]
   double ramp_time = 0.0;          ///< soft start [s]
-};
-
-/// One external effect switched on by name, with its options and parameter values.
-struct EffectSpec {
-  std::string name;
-  std::string log_form = "2L/r0";       ///< rft
-  bool use_interface_profile = false;   ///< rft
-  std::string lateral_mode = "fitted";  ///< interface_lateral_force: fitted | integrated
-  std::vector<std::pair<std::string, double>> parameters;  ///< name -> value overrides
 };
 
 struct SimulationConfig {
@@ -44,16 +36,22 @@ struct SimulationConfig {
   double output_interval = 0.1;
   double steady_fraction = 0.5;  ///< last fraction of the run used for summary metrics
   NewtonOptions solver;
+
+  /// The robot's sizes effects take their defaults from.
+  RobotDimensions robotDimensions() const;
 };
 
-/// Parses a config tree; throws ConfigError naming the field and its allowed range.
+/// Parses and validates a config tree, effects included (every effect is built once with its
+/// parameters); throws ConfigError naming the field and its allowed range. The one path from
+/// YAML to a SimulationConfig: the CLI, the nodes and identification all come through here.
 SimulationConfig parseSimulationConfig(const YAML::Node& root, const std::string& source);
 
-/// Loads a YAML file, applies "section.field=value" overrides, parses. File/line errors included.
+/// Reads a YAML config file and applies "section.field=value" overrides, without parsing it
+/// (identification edits the tree). Errors name the file, line and column.
+YAML::Node loadConfigTree(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// loadConfigTree, then parseSimulationConfig; every error message starts with the file name.
 SimulationConfig loadSimulationConfig(const std::string& path,
                                       const std::vector<std::string>& overrides = {});
-
-/// The names of the effects a config may switch on.
-const std::vector<std::string>& knownEffectNames();
 
 }  // namespace flagella

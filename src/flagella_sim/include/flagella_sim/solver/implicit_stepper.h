@@ -11,8 +11,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "flagella_sim/actuation/motor_command.h"
+#include "flagella_sim/actuation/motor.h"
 #include "flagella_sim/core/sparse_assembler.h"
+#include "flagella_sim/elastic/bend_twist_energy.h"
 #include "flagella_sim/effects/effect.h"
 #include "flagella_sim/rod/rod_network.h"
 #include "flagella_sim/rod/rod_state.h"
@@ -41,25 +42,27 @@ class ImplicitStepper {
   /// State at t = 0: rest configuration, zero rates, space-parallel frames.
   RodState initialState() const;
 
-  /// Advances state by dt with the motor speed from `motor`. Throws SolverFailure if the
+  /// Advances state by dt with the natural-twist rate from `motor`. Throws SolverFailure if the
   /// step cannot be completed even after subdivision; state is then unchanged (and so are the
-  /// network's motor twist and the effects' internal state, whatever the exception).
-  /// Before every (sub)step the effects' hooks set the medium's viscosity factor and shape the
-  /// motor speed (Effect::viscosityFactor, Effect::motorSpeed); after every accepted (sub)step
-  /// Effect::acceptStep is called.
-  StepReport step(RodState& state, double dt, const MotorCommand& motor);
+  /// motor's record and the effects' internal state, whatever the exception).
+  /// Before every (sub)step the effects give the viscosity factor (Effect::viscosityFactor,
+  /// passed to the effects as EffectContext::viscosity) and the motor its speed; after every
+  /// accepted (sub)step Effect::acceptStep is called and the motor records what it applied.
+  StepReport step(RodState& state, double dt, Motor& motor);
 
   /// The motor's load at `state` (the start of a step) for a command `omega_cmd` (spec 1.9):
   /// the motor spring's generalised force on theta^0, with the natural twist of that state.
   MotorLoad motorLoad(const RodState& state, double omega_cmd, double time_next) const;
-  /// Motor speed applied to the natural twist in the last accepted (sub)step [rad/s]: the
-  /// command unless an effect (dc_motor) modifies it.
-  double lastMotorSpeed() const { return last_motor_speed_; }
+  /// The effects whose torque-speed law shapes the motor speed (Effect::shapesMotorSpeed).
+  std::vector<const Effect*> motorSpeedLaws() const;
+  /// Viscosity of the last accepted (sub)step: medium mu0 times the effects' factors [Pa s].
+  double currentViscosity() const { return medium_.viscosity() * viscosity_factor_; }
 
   const RodNetwork& network() const { return net_; }
   RodNetwork& network() { return net_; }
-  Medium& medium() { return medium_; }
   const Medium& medium() const { return medium_; }
+  /// The medium's named parameters ("medium.viscosity"): set between steps, never by a step.
+  ParameterSet& mediumParameters() { return medium_.parameters(); }
   const std::vector<EffectPtr>& effects() const { return effects_; }
   Effect* findEffect(const std::string& name) const;
   NewtonOptions& options() { return options_; }
@@ -75,12 +78,13 @@ class ImplicitStepper {
   };
   /// One Newton solve of the step; `damped`: backtrack each update until the scaled residual
   /// decreases (Armijo), and give up if no step length below 1 decreases it.
-  Attempt solveStep(RodState& state, double dt, double motor_offset, bool damped);
+  Attempt solveStep(RodState& state, double dt, double motor_offset, double viscosity,
+                    bool damped);
   /// Fills residual_ (and the Jacobian in assembler_ if asked) at iterate q; returns the
   /// scaled residual (infinity if anything is not finite).
   double evaluate(const RodState& start, const VecX& q, double dt, const ReferenceFrames& frames,
                   bool with_jacobian);
-  StepReport stepRecursive(RodState& state, double dt, const MotorCommand& motor, int depth);
+  StepReport stepRecursive(RodState& state, double dt, Motor& motor, int depth);
   double scaledResidual(const VecX& f) const;
   double stepNorm(const VecX& dq) const;
   void pinFixedDofs(SparseMatrix& J) const;
@@ -89,10 +93,13 @@ class ImplicitStepper {
   std::vector<EffectPtr> effects_;
   Medium medium_;
   NewtonOptions options_;
+  /// Natural twist of the motor spring at t = 0 (the network's value, never written).
   double motor_tau_bar0_ = 0.0;
-  double last_motor_speed_ = 0.0;
+  /// What evaluate() uses for this attempt: the motor spring's natural twist, the viscosity.
+  NaturalTwistOverride motor_twist_;
+  double attempt_viscosity_ = 0.0;
+  double viscosity_factor_ = 1.0;  ///< of the last accepted (sub)step (reported only)
   bool any_fixed_ = false;
-  bool any_motor_shaping_ = false;  ///< some effect overrides Effect::motorSpeed
   SparseAssembler assembler_;
   VecX residual_, external_;
   SparseLuSolver lu_;
