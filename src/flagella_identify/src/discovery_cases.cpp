@@ -13,25 +13,10 @@ namespace identify {
 namespace {
 
 /// Realistic strength ranges for the design-1 robot (README "Model discovery"): low end
-/// clearly above the noise of the plans below, high end still a plausible robot.
-struct Range {
-  std::string variable;
-  double low, high;
-  bool random_sign;
-};
-
-std::vector<Range> rangesOf(const std::string& effect, std::mt19937_64& rng) {
-  if (effect == "granular_yield") return {{"granular_yield.yield_force", 3e-4, 9e-4, false}};
-  if (effect == "dc_motor")  // 10-30 % speed loss at 250 rpm (load about 1.3e-3 N m)
-    return {{"dc_motor.inverse_stall_torque", 80.0, 230.0, false}};
-  if (effect == "viscosity_drift") return {{"viscosity_drift.rate", 0.04, 0.12, true}};
-  if (effect == "granular_jamming")
-    return {{"granular_jamming.release_force", 1.5e-3, 3e-3, false},
-            {"granular_jamming.stiffness", 0.8, 3.0, false}};
-  if (effect == "com_offset") return {{"com_offset.offset", 1e-3, 4e-3, true}};
-  if (effect == "interface_lateral_force")
-    return {{"interface_lateral_force.C_yr", 2e-3, 8e-3, true}};
-  if (effect == "fabrication_asymmetry") {
+/// clearly above the noise of the plans below, high end still a plausible robot. An effect's
+/// come from its descriptor (DiscoveryHints::typical).
+std::vector<TypicalStrength> rangesOf(const Candidate& c, std::mt19937_64& rng) {
+  if (c.name == "fabrication_asymmetry") {
     // one tail shorter, or one tail stiffer
     if (std::uniform_int_distribution<int>(0, 1)(rng) == 0)
       return {{"fabrication_asymmetry.length_ratio", 0.7, 0.85, false},
@@ -39,7 +24,9 @@ std::vector<Range> rangesOf(const std::string& effect, std::mt19937_64& rng) {
     return {{"fabrication_asymmetry.length_ratio", 1.0, 1.0, false},
             {"fabrication_asymmetry.stiffness_ratio", 1.8, 3.0, false}};
   }
-  throw std::invalid_argument("no strength range for effect '" + effect + "'");
+  if (c.typical.empty())
+    throw std::invalid_argument("no typical strength for effect '" + c.name + "'");
+  return c.typical;
 }
 
 double logUniform(std::mt19937_64& rng, double low, double high) {
@@ -77,20 +64,19 @@ const std::vector<std::string>& caseFreeParameters() {
   return free;
 }
 
+static std::vector<DiscoveryCase> makeDiscoveryCases() {
+  std::vector<DiscoveryCase> cases = {{"null_table", {}, false, true},
+                                      {"null_series", {}, false, false}};
+  // one case per candidate, in the data its descriptor asks for
+  for (const Candidate& c : standardCandidates())
+    cases.push_back({c.name, {c.name}, false, c.steady_table_data});
+  cases.push_back({"granular_yield+dc_motor", {"granular_yield", "dc_motor"}, false, true});
+  cases.push_back({"unknown_ripple", {}, true, false});
+  return cases;
+}
+
 const std::vector<DiscoveryCase>& discoveryCases() {
-  static const std::vector<DiscoveryCase> cases = {
-      {"null_table", {}, false, true},
-      {"null_series", {}, false, false},
-      {"granular_yield", {"granular_yield"}, false, true},
-      {"dc_motor", {"dc_motor"}, false, true},
-      {"viscosity_drift", {"viscosity_drift"}, false, true},
-      {"granular_yield+dc_motor", {"granular_yield", "dc_motor"}, false, true},
-      {"granular_jamming", {"granular_jamming"}, false, false},
-      {"com_offset", {"com_offset"}, false, false},
-      {"fabrication_asymmetry", {"fabrication_asymmetry"}, false, false},
-      {"interface_lateral_force", {"interface_lateral_force"}, false, false},
-      {"unknown_ripple", {}, true, false},
-  };
+  static const std::vector<DiscoveryCase> cases = makeDiscoveryCases();
   return cases;
 }
 
@@ -114,10 +100,11 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
   std::ostringstream description;
   description << "case " << c.name << ", seed " << seed << ": ";
   for (const std::string& effect : c.hidden) {
-    truth.addCandidate(candidateByName(effect));
+    const Candidate& candidate = candidateByName(effect);
+    truth.addCandidate(candidate);
     const std::vector<double> defaults = truth.values();  // new variables start at defaults
     values.insert(values.end(), defaults.begin() + values.size(), defaults.end());
-    for (const Range& r : rangesOf(effect, rng)) {
+    for (const TypicalStrength& r : rangesOf(candidate, rng)) {
       double v = r.low == r.high ? r.low : logUniform(rng, r.low, r.high);
       if (r.random_sign && std::uniform_int_distribution<int>(0, 1)(rng) == 1) v = -v;
       // by name: the ranges need not list an effect's variables in the candidate's order

@@ -36,24 +36,14 @@ YAML::Node configField(const YAML::Node& root, const std::string& path) {
   return node;
 }
 
-YAML::Node loadConfigTree(const std::string& path, const std::vector<std::string>& overrides) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw ConfigError(path + ": cannot open the robot config");
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(path + ":" + std::to_string(e.mark.line + 1) + ":" +
-                      std::to_string(e.mark.column + 1) + ": " + e.msg);
-  }
-  for (const std::string& o : overrides) applyOverride(root, o);
-  parseSimulationConfig(root, path);  // validates before any fit starts
-  return root;
-}
-
 Model::Model(YAML::Node baseline, std::string source, const std::vector<std::string>& free,
              double range_factor)
     : baseline_(YAML::Clone(baseline)), source_(std::move(source)) {
+  try {
+    parseSimulationConfig(baseline_, source_);  // the one validated path; before any fit starts
+  } catch (const ConfigError& e) {
+    throw ConfigError(source_ + ": " + e.what());
+  }
   for (const std::string& name : free) {
     const YAML::Node node = configField(baseline_, name);
     if (!node || !node.IsScalar())

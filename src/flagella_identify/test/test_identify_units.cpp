@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <random>
 
 #include "flagella_identify/candidates.h"
@@ -11,6 +12,7 @@
 #include "flagella_identify/discovery_cases.h"
 #include "flagella_identify/fit.h"
 #include "flagella_identify/model.h"
+#include "flagella_sim/effects/effect_registry.h"
 #include "support/discovery_check.h"
 
 namespace flagella {
@@ -168,6 +170,61 @@ TEST(Candidates, NotIdentifiableWithoutTheirObservables) {
   EXPECT_EQ(notIdentifiableReason(candidateByName("granular_yield"), o), "");
   EXPECT_NE(notIdentifiableReason(candidateByName("viscosity_drift"), o).find("session"),
             std::string::npos);
+}
+
+// The candidate list is the registry's: every effect with DiscoveryHints, in order, with the
+// descriptor's variables, ranges and starts, plus the one robot-field candidate; every candidate
+// has a hidden-effect case in the data its descriptor asks for.
+TEST(Candidates, AreTheRegistrysFittableEffects) {
+  std::vector<std::string> expected;
+  for (const EffectDescriptor* d : effectRegistry()) {
+    if (!d->discovery) continue;
+    expected.push_back(d->name);
+    const Candidate& c = candidateByName(d->name);
+    const DiscoveryHints& h = *d->discovery;
+    EXPECT_EQ(c.needs, h.needs) << d->name;
+    EXPECT_EQ(c.starts, h.starts) << d->name;
+    ASSERT_EQ(c.variables.size(), h.variables.size()) << d->name;
+    for (size_t i = 0; i < h.variables.size(); ++i) {
+      EXPECT_EQ(c.variables[i].name, d->name + "." + h.variables[i].variable);
+      EXPECT_EQ(c.variables[i].lower, h.variables[i].lower) << c.variables[i].name;
+      EXPECT_EQ(c.variables[i].upper, h.variables[i].upper) << c.variables[i].name;
+      EXPECT_EQ(c.variables[i].log_scale, h.variables[i].log_scale) << c.variables[i].name;
+    }
+    EXPECT_EQ(discoveryCaseByName(d->name).table, h.steady_table_data) << d->name;
+  }
+  expected.push_back("fabrication_asymmetry");
+  std::vector<std::string> names;
+  for (const Candidate& c : standardCandidates()) names.push_back(c.name);
+  EXPECT_EQ(names, expected);
+}
+
+// A candidate writes its variables into the effect's parameters as the descriptor says (the
+// reciprocal for dc_motor), and the session start time where the effect has one; the config
+// it writes passes the one validated reader.
+TEST(Candidates, WriteTheDescriptorsParameters) {
+  const YAML::Node baseline = loadConfigTree(testing::baselinePath(), {});
+  for (const Candidate& c : standardCandidates()) {
+    const EffectDescriptor* d = findEffectDescriptor(c.name);
+    if (!d) continue;  // fabrication_asymmetry: robot fields (tested above)
+    YAML::Node tree = YAML::Clone(baseline);
+    std::vector<double> values;
+    for (const FitParameter& v : c.variables) values.push_back(v.value);
+    c.apply(tree, values, 1234.0);
+    const SimulationConfig config = parseSimulationConfig(tree, "<candidate " + c.name + ">");
+    std::map<std::string, double> written;
+    for (const EffectSpec& e : config.effects)
+      if (e.name == c.name)
+        for (const auto& [name, value] : e.parameters) written[name] = value;
+    const DiscoveryHints& h = *d->discovery;
+    for (size_t i = 0; i < h.variables.size(); ++i) {
+      const FittableParameter& v = h.variables[i];
+      ASSERT_TRUE(written.count(v.parameter)) << c.name << "." << v.parameter;
+      EXPECT_DOUBLE_EQ(written[v.parameter], v.reciprocal ? 1.0 / values[i] : values[i]);
+    }
+    if (!h.session_time_parameter.empty())
+      EXPECT_EQ(written[h.session_time_parameter], 1234.0) << c.name;
+  }
 }
 
 TEST(DiscoveryCases, TheTruthModelRunsTheDrawnValues) {

@@ -364,13 +364,12 @@ TEST(ViscosityDrift, FollowsTheViscosityParameterAndOverrides) {
       design1, {"robot.tail_edges=10", "simulation.dt=0.02", "effects.viscosity_drift.rate=0.5",
                 "effects.viscosity_drift.session_time=7200"}));
   for (int k = 0; k < 3; ++k) sim.step();
-  EXPECT_NEAR(sim.stepper().medium().viscosity(), kMu0 * driftFactor(kRate, kSession, sim.time()),
+  EXPECT_NEAR(sim.currentViscosity(), kMu0 * driftFactor(kRate, kSession, sim.time()),
               1e-12 * kMu0);
   EXPECT_EQ(sim.parameter("medium.viscosity"), kMu0);  // the parameter stays mu0
   sim.setParameter("medium.viscosity", 5.0);           // mu0 is read at every step
   sim.step();
-  EXPECT_NEAR(sim.stepper().medium().viscosity(), 5.0 * driftFactor(kRate, kSession, sim.time()),
-              1e-12 * 5.0);
+  EXPECT_NEAR(sim.currentViscosity(), 5.0 * driftFactor(kRate, kSession, sim.time()), 1e-12 * 5.0);
 }
 
 TEST(ViscosityDrift, FactorDownToTheMinimumIsAnErrorNamingTheRate) {

@@ -58,7 +58,8 @@ Fixture makeFixture(unsigned seed) {
 VecX forceAt(const Effect& e, const Fixture& f, const VecX& q) {
   const ReferenceFrames fr = transportFrames(f.net, q, f.frames_start);
   VecX F = VecX::Zero(f.net.ndof());
-  e.addForce({f.net, q, fr, f.q_start, f.qdot_start, f.dt, f.dt, f.medium}, F, nullptr);
+  e.addForce({f.net, q, fr, f.q_start, f.qdot_start, f.dt, f.dt, f.medium, f.medium.viscosity()}, F,
+             nullptr);
   return F;
 }
 
@@ -68,7 +69,8 @@ void expectJacobianMatchesFiniteDifferences(Effect& e, unsigned seed) {
   const ReferenceFrames fr = transportFrames(f.net, f.q, f.frames_start);
   DenseSink sink(f.net.ndof());
   VecX F = VecX::Zero(f.net.ndof());
-  e.addForce({f.net, f.q, fr, f.q_start, f.qdot_start, f.dt, f.dt, f.medium}, F, &sink);
+  e.addForce({f.net, f.q, fr, f.q_start, f.qdot_start, f.dt, f.dt, f.medium, f.medium.viscosity()},
+             F, &sink);
   ASSERT_TRUE(F.allFinite());
   const double h = 1e-7;
   MatX J_fd(f.net.ndof(), f.net.ndof());
@@ -107,7 +109,8 @@ TEST(EffectJacobians, InterfaceLateralForceIsNonSymmetric) {
   DenseSink sink(f.net.ndof());
   VecX F = VecX::Zero(f.net.ndof());
   const ReferenceFrames fr = transportFrames(f.net, f.q, f.frames_start);
-  e.addForce({f.net, f.q, fr, f.q_start, f.qdot_start, f.dt, f.dt, f.medium}, F, &sink);
+  e.addForce({f.net, f.q, fr, f.q_start, f.qdot_start, f.dt, f.dt, f.medium, f.medium.viscosity()},
+             F, &sink);
   EXPECT_GT((sink.J - sink.J.transpose()).cwiseAbs().maxCoeff(), 0.0);
 }
 

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "flagella_sim/actuation/motor_command.h"
-#include "flagella_sim/robots/multi_tail_robot.h"
 #include "flagella_sim/effects/effect_registry.h"
+#include "flagella_sim/robots/multi_tail_robot.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
 #include "flagella_sim/solver/implicit_stepper.h"
@@ -58,7 +58,8 @@ SimulationConfig design1(const std::vector<std::string>& overrides = {}) {
 
 ImplicitStepper makeStepper(const SimulationConfig& c) {
   std::vector<EffectPtr> effects;
-  for (const EffectSpec& spec : c.effects) effects.push_back(makeEffect(spec, c.medium, c.robotDimensions()));
+  for (const EffectSpec& spec : c.effects)
+    effects.push_back(makeEffect(spec, c.medium, c.robotDimensions()));
   return ImplicitStepper(buildMultiTailRobot(c.geometry), std::move(effects), c.medium, c.solver);
 }
 
@@ -164,18 +165,27 @@ TEST(SolverFailure, FailureAfterGoodStepsNamesTheTimeAndKeepsTheLastState) {
 }
 
 // The motor spring's natural twist tau_bar = tau_bar(0) + motor_twist_offset belongs to the
-// accepted state; a rejected trial must not leave the network holding its own offset.
-TEST(SolverFailure, FailedStepRestoresTheMotorNaturalTwist) {
+// accepted state: the network's tau_bar(0) is never written, and a rejected trial leaves the
+// motor's record (last command and speed) as it was.
+TEST(SolverFailure, FailedStepLeavesTheMotorAndTheNetworkAsTheyWere) {
   const SimulationConfig c = design1();
   ImplicitStepper stepper = makeStepper(c);
-  const ConstantMotor motor(c.motor.omega);
+  Motor motor(std::make_shared<ConstantMotor>(c.motor.omega));
   RodState state = stepper.initialState();
+  const double tau_bar0 = motorTauBar(stepper);
   for (int k = 0; k < kWarmupSteps; ++k) stepper.step(state, c.dt, motor);
-  const double tau_bar_before = motorTauBar(stepper);
+  EXPECT_EQ(motorTauBar(stepper), tau_bar0) << "a step wrote the network's natural twist";
+  // spec 1.9: tau_bar(t) = tau_bar(0) + sum omega dt
+  EXPECT_NEAR(state.motor_twist_offset, kWarmupSteps * c.dt * c.motor.omega, kTimeTol);
+  const Motor::Record before = motor.record();
+  EXPECT_EQ(before.command, c.motor.omega);
+  motor.setSchedule(std::make_shared<ConstantMotor>(2.0 * c.motor.omega));
   stepper.options().max_iterations = 1;
   stepper.options().residual_tolerance = 1e-14;
   EXPECT_THROW(stepper.step(state, c.dt, motor), SolverFailure);
-  EXPECT_EQ(motorTauBar(stepper), tau_bar_before) << "tau_bar left at a rejected trial's value";
+  EXPECT_EQ(motor.lastCommand(), before.command) << "record left at a rejected trial's command";
+  EXPECT_EQ(motor.lastSpeed(), before.speed);
+  EXPECT_EQ(motorTauBar(stepper), tau_bar0);
 }
 
 TEST(SolverFailure, HugeStepThrowsAndLeavesStateUnchanged) {

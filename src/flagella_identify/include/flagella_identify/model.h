@@ -18,8 +18,10 @@ namespace identify {
 
 class Model {
  public:
-  /// `baseline` is the robot config tree; `free` lists baseline config paths the fit may change
-  /// (start values are read from the config, ranges span a factor `range_factor` either way).
+  /// `baseline` is the robot config tree (read with flagella::loadConfigTree; validated here
+  /// through parseSimulationConfig, errors naming `source`); `free` lists baseline config paths
+  /// the fit may change (start values are read from the config, ranges span a factor
+  /// `range_factor` either way).
   Model(YAML::Node baseline, std::string source, const std::vector<std::string>& free,
         double range_factor = 20.0);
 
@@ -59,10 +61,6 @@ class Model {
 /// The node at a dotted path ("effects.stokes_head.C_t") of a config tree, or a null node if
 /// the path does not exist.
 YAML::Node configField(const YAML::Node& root, const std::string& path);
-
-/// Reads a YAML config file and applies "section.field=value" overrides (identification
-/// fidelity, e.g. robot.tail_edges=8); errors name the file.
-YAML::Node loadConfigTree(const std::string& path, const std::vector<std::string>& overrides);
 
 }  // namespace identify
 }  // namespace flagella

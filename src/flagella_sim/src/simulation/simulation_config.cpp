@@ -75,14 +75,13 @@ EffectSpec parseEffect(FieldReader r, const EffectDescriptor& d) {
   EffectSpec e;
   e.name = d.name;
   for (const EffectOption& o : d.options) {
-    const std::string value = o.isFlag()
-                                  ? (r.flag(o.name, o.fallback == "true") ? "true" : "false")
-                                  : r.choice(o.name, o.fallback, o.allowed);
+    const std::string value = o.isFlag() ? (r.flag(o.name, o.fallback == "true") ? "true" : "false")
+                                         : r.choice(o.name, o.fallback, o.allowed);
     e.options.emplace_back(o.name, value);
   }
   constexpr double kAnyFinite = std::numeric_limits<double>::max();
   for (const std::string& key : r.keys()) {
-    if (d.findOption(key)) continue;
+    if (d.findOption(key) || !r.has(key)) continue;  // null: the default
     e.parameters.emplace_back(key, r.number(key, 0.0, -kAnyFinite, kAnyFinite));
   }
   return e;

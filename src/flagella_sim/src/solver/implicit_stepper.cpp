@@ -119,7 +119,8 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
   addBendTwistGradientHessian(net_, q, frames, residual_, hessian, motor_twist_);
   external_.setZero(net_.ndof());
   NegatingSink sink(assembler_);
-  const EffectContext ctx{net_, q, frames, q0, v0, dt, start.time + dt, medium_, attempt_viscosity_};
+  const EffectContext ctx{
+      net_, q, frames, q0, v0, dt, start.time + dt, medium_, attempt_viscosity_};
   for (const EffectPtr& e : effects_) e->addForce(ctx, external_, with_jacobian ? &sink : nullptr);
   residual_ -= external_;
   if (with_jacobian) {
@@ -284,6 +285,12 @@ StepReport ImplicitStepper::step(RodState& state, double dt, Motor& motor) {
     restore();
     throw;
   }
+}
+
+StepReport ImplicitStepper::step(RodState& state, double dt, const MotorCommand& schedule) {
+  Motor motor(std::shared_ptr<const MotorCommand>(&schedule, [](const MotorCommand*) {}));
+  motor.setSpeedLaws(motorSpeedLaws());
+  return step(state, dt, motor);
 }
 
 MotorLoad ImplicitStepper::motorLoad(const RodState& state, double omega_cmd,

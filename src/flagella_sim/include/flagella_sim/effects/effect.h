@@ -25,7 +25,7 @@ struct EffectContext {
   double time = 0.0;  ///< t_{k+1}
   const Medium& medium;
   /// Viscosity during this (sub)step [Pa s]: the medium's mu0 times the effects' factors.
-  double viscosity = 0.0;
+  double viscosity;
 
   /// Implicit velocity of DOF i: (q_i - q_i(t_k))/dt (spec 1.10).
   double rate(int i) const { return (q(i) - q_start(i)) / dt; }

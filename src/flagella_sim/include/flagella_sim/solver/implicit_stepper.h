@@ -13,8 +13,8 @@
 
 #include "flagella_sim/actuation/motor.h"
 #include "flagella_sim/core/sparse_assembler.h"
-#include "flagella_sim/elastic/bend_twist_energy.h"
 #include "flagella_sim/effects/effect.h"
+#include "flagella_sim/elastic/bend_twist_energy.h"
 #include "flagella_sim/rod/rod_network.h"
 #include "flagella_sim/rod/rod_state.h"
 #include "flagella_sim/solver/newton_options.h"
@@ -49,6 +49,9 @@ class ImplicitStepper {
   /// passed to the effects as EffectContext::viscosity) and the motor its speed; after every
   /// accepted (sub)step Effect::acceptStep is called and the motor records what it applied.
   StepReport step(RodState& state, double dt, Motor& motor);
+  /// The same with a one-step motor that follows `schedule` with this stepper's torque-speed
+  /// laws (its record is discarded): for stepper-level tests without a Simulation.
+  StepReport step(RodState& state, double dt, const MotorCommand& schedule);
 
   /// The motor's load at `state` (the start of a step) for a command `omega_cmd` (spec 1.9):
   /// the motor spring's generalised force on theta^0, with the natural twist of that state.
@@ -78,8 +81,7 @@ class ImplicitStepper {
   };
   /// One Newton solve of the step; `damped`: backtrack each update until the scaled residual
   /// decreases (Armijo), and give up if no step length below 1 decreases it.
-  Attempt solveStep(RodState& state, double dt, double motor_offset, double viscosity,
-                    bool damped);
+  Attempt solveStep(RodState& state, double dt, double motor_offset, double viscosity, bool damped);
   /// Fills residual_ (and the Jacobian in assembler_ if asked) at iterate q; returns the
   /// scaled residual (infinity if anything is not finite).
   double evaluate(const RodState& start, const VecX& q, double dt, const ReferenceFrames& frames,
