@@ -76,6 +76,86 @@ std::vector<ConfigOverride> allOverrides(const std::vector<ConfigOverride>& a,
   return all;
 }
 
+/// The model's value of a steady-state output from the simulation summary; false for an output
+/// the table cannot hold.
+bool predictedOutput(const SummaryMetrics& m, const std::string& name, double& predicted) {
+  if (name == "v")
+    predicted = m.speed;
+  else if (name == "omega_h")
+    predicted = m.omega_h;
+  else if (name == "omega_t")
+    predicted = m.omega_t;
+  else if (name == "omega_yr")
+    predicted = m.yaw_rate;
+  else if (name == "R_yr")
+    predicted = m.circle_valid ? m.circle_radius : kStraightRadius;
+  else
+    return false;
+  return true;
+}
+
+/// Model value at a data time `t`: linear interpolation between the simulated samples at
+/// `times`; `member(i)` is the value at sample i.
+template <typename Member>
+auto interpolateAt(const std::vector<double>& times, double t, Member member) {
+  const auto it = std::lower_bound(times.begin(), times.end(), t);
+  size_t i = std::min<size_t>(std::max<ptrdiff_t>(it - times.begin(), 1), times.size() - 1);
+  const double w = (t - times[i - 1]) / (times[i] - times[i - 1]);
+  using Value = std::decay_t<decltype(member(i))>;  // evaluated: no Eigen expression
+  return Value(member(i - 1) * (1.0 - w) + member(i) * w);
+}
+
+/// The residuals of sample `i` of series `s` (index `source`) against the simulated `trace`:
+/// position (shifted by `offset`), head axis and counted turns, as far as the data has them.
+void appendSampleResiduals(const TimeSeries& s, int source, int i,
+                           const Evaluator::SeriesTrace& trace, const Vec3& offset,
+                           Evaluation& out) {
+  const auto at = [&](double t, auto member) { return interpolateAt(trace.t, t, member); };
+  static const char* kAxes[3] = {"x", "y", "z"};
+  static const char* kAxisNames[3] = {"axis_x", "axis_y", "axis_z"};
+  const double t = s.t[i];
+  ResidualPoint base;
+  base.from_series = true;
+  base.source = source;
+  base.row = i;
+  base.omega_T = s.omega_cmd[i];
+  base.session_time = s.session_time + t;
+  base.run_time = t;
+  const Vec3 pos = at(t, [&](size_t k) { return trace.position[k]; }) + offset;
+  for (int a = 0; a < (s.has_z ? 3 : 2); ++a) {
+    ResidualPoint p = base;
+    p.output = kAxes[a];
+    p.data = s.position[i](a);
+    p.model = pos(a);
+    p.sigma = s.position_noise;
+    out.points.push_back(p);
+  }
+  if (!s.orientation.empty()) {
+    const Vec3 axis_data = s.orientation[i] * Vec3::UnitZ();
+    const Vec3 axis_model = at(t, [&](size_t k) { return trace.axis[k]; }).normalized();
+    for (int a = 0; a < 3; ++a) {
+      ResidualPoint p = base;
+      p.output = kAxisNames[a];
+      p.data = axis_data(a);
+      p.model = axis_model(a);
+      p.sigma = s.orientation_noise;
+      out.points.push_back(p);
+    }
+  }
+  const std::vector<double>* counted[2] = {&s.head_turns, &s.tail_turns};
+  const std::vector<double>* simulated[2] = {&trace.head_turns, &trace.tail_turns};
+  static const char* kTurnNames[2] = {"head_turns", "tail_turns"};
+  for (int k = 0; k < 2; ++k) {
+    if (counted[k]->empty()) continue;
+    ResidualPoint p = base;
+    p.output = kTurnNames[k];
+    p.data = (*counted[k])[i];
+    p.model = at(t, [&](size_t j) { return (*simulated[k])[j]; });
+    p.sigma = s.turns_noise;
+    out.points.push_back(p);
+  }
+}
+
 }  // namespace
 
 Split makeSplit(const MeasuredData& data, int stride, double held_out_fraction) {
@@ -142,122 +222,69 @@ std::vector<Evaluation> Evaluator::evaluateMany(const Model& model,
 void Evaluator::runJob(const Model& model, const std::vector<double>& values, const Job& job,
                        Part part, Evaluation& out) const {
   try {
-    if (!job.is_series) {
-      const SteadyStateTable& table = data_.tables[job.source];
-      const SteadyStateRow& row = table.rows[job.row];
-      const double session = orZero(row.time);
-      SimulationConfig cfg =
-          model.configFor(allOverrides(table.overrides, row.overrides), session, values);
-      cfg.motor.mode = "constant";
-      cfg.motor.omega = row.omega_T;
-      cfg.duration = table.settle_time + table.window;
-      cfg.steady_fraction = table.window / cfg.duration;
-      cfg.output_interval = std::max(cfg.dt, table.window / kWindowSamples);
-      cfg.solver.residual_tolerance =
-          std::min(cfg.solver.residual_tolerance, options_.solver_tolerance);
-      Simulation sim(cfg);
-      sim.run(cfg.duration);
-      const SummaryMetrics m = sim.summary();
-      for (const auto& [name, measured] : row.measured) {
-        if (!std::isfinite(measured)) continue;
-        double predicted = 0.0;
-        if (name == "v")
-          predicted = m.speed;
-        else if (name == "omega_h")
-          predicted = m.omega_h;
-        else if (name == "omega_t")
-          predicted = m.omega_t;
-        else if (name == "omega_yr")
-          predicted = m.yaw_rate;
-        else if (name == "R_yr")
-          predicted = m.circle_valid ? m.circle_radius : kStraightRadius;
-        else
-          continue;
-        ResidualPoint p;
-        p.output = name;
-        p.source = job.source;
-        p.row = job.row;
-        p.omega_T = row.omega_T;
-        p.session_time = row.time;
-        p.data = measured;
-        p.model = predicted;
-        p.sigma = table.noise.at(name);
-        out.points.push_back(p);
-      }
-      return;
-    }
-    const TimeSeries& s = data_.series[job.source];
-    const double split = split_.series_split_time[job.source];
-    const double t_end = part == Part::kTrain ? split : s.t.back();
-    const SeriesTrace trace = traceSeries(model, values, job.source, t_end);
-    // Model value at a data time: linear interpolation between simulated samples.
-    auto at = [&](double t, auto member) {
-      const auto it = std::lower_bound(trace.t.begin(), trace.t.end(), t);
-      size_t i = std::min<size_t>(std::max<ptrdiff_t>(it - trace.t.begin(), 1), trace.t.size() - 1);
-      const double w = (t - trace.t[i - 1]) / (trace.t[i] - trace.t[i - 1]);
-      using Value = std::decay_t<decltype(member(i))>;  // evaluated: no Eigen expression
-      return Value(member(i - 1) * (1.0 - w) + member(i) * w);
-    };
-    const int budget = options_.max_series_points;
-    const std::vector<int> train = selectSamples(s, s.t.front(), split, budget * 6 / 10);
-    const std::vector<int> held = selectSamples(s, split, s.t.back() + 1.0, budget * 4 / 10);
-    // The start of the track is a nuisance: offset = mean(data - model) over the training part.
-    Vec3 offset = Vec3::Zero();
-    for (int i : train)
-      offset += s.position[i] - at(s.t[i], [&](size_t k) { return trace.position[k]; });
-    if (!train.empty()) offset /= static_cast<double>(train.size());
-    std::vector<int> chosen;
-    if (part != Part::kHeldOut) chosen.insert(chosen.end(), train.begin(), train.end());
-    if (part != Part::kTrain) chosen.insert(chosen.end(), held.begin(), held.end());
-    static const char* kAxes[3] = {"x", "y", "z"};
-    static const char* kAxisNames[3] = {"axis_x", "axis_y", "axis_z"};
-    for (int i : chosen) {
-      const double t = s.t[i];
-      ResidualPoint base;
-      base.from_series = true;
-      base.source = job.source;
-      base.row = i;
-      base.omega_T = s.omega_cmd[i];
-      base.session_time = s.session_time + t;
-      base.run_time = t;
-      const Vec3 pos = at(t, [&](size_t k) { return trace.position[k]; }) + offset;
-      for (int a = 0; a < (s.has_z ? 3 : 2); ++a) {
-        ResidualPoint p = base;
-        p.output = kAxes[a];
-        p.data = s.position[i](a);
-        p.model = pos(a);
-        p.sigma = s.position_noise;
-        out.points.push_back(p);
-      }
-      if (!s.orientation.empty()) {
-        const Vec3 axis_data = s.orientation[i] * Vec3::UnitZ();
-        const Vec3 axis_model = at(t, [&](size_t k) { return trace.axis[k]; }).normalized();
-        for (int a = 0; a < 3; ++a) {
-          ResidualPoint p = base;
-          p.output = kAxisNames[a];
-          p.data = axis_data(a);
-          p.model = axis_model(a);
-          p.sigma = s.orientation_noise;
-          out.points.push_back(p);
-        }
-      }
-      const std::vector<double>* counted[2] = {&s.head_turns, &s.tail_turns};
-      const std::vector<double>* simulated[2] = {&trace.head_turns, &trace.tail_turns};
-      static const char* kTurnNames[2] = {"head_turns", "tail_turns"};
-      for (int k = 0; k < 2; ++k) {
-        if (counted[k]->empty()) continue;
-        ResidualPoint p = base;
-        p.output = kTurnNames[k];
-        p.data = (*counted[k])[i];
-        p.model = at(t, [&](size_t j) { return (*simulated[k])[j]; });
-        p.sigma = s.turns_noise;
-        out.points.push_back(p);
-      }
-    }
+    if (!job.is_series)
+      runTableJob(model, values, job, out);
+    else
+      runSeriesJob(model, values, job, part, out);
   } catch (const std::exception& e) {
     out.ok = false;
     out.failure = e.what();
   }
+}
+
+void Evaluator::runTableJob(const Model& model, const std::vector<double>& values, const Job& job,
+                            Evaluation& out) const {
+  const SteadyStateTable& table = data_.tables[job.source];
+  const SteadyStateRow& row = table.rows[job.row];
+  const double session = orZero(row.time);
+  SimulationConfig cfg =
+      model.configFor(allOverrides(table.overrides, row.overrides), session, values);
+  cfg.motor.mode = "constant";
+  cfg.motor.omega = row.omega_T;
+  cfg.duration = table.settle_time + table.window;
+  cfg.steady_fraction = table.window / cfg.duration;
+  cfg.output_interval = std::max(cfg.dt, table.window / kWindowSamples);
+  cfg.solver.residual_tolerance =
+      std::min(cfg.solver.residual_tolerance, options_.solver_tolerance);
+  Simulation sim(cfg);
+  sim.run(cfg.duration);
+  const SummaryMetrics m = sim.summary();
+  for (const auto& [name, measured] : row.measured) {
+    if (!std::isfinite(measured)) continue;
+    double predicted = 0.0;
+    if (!predictedOutput(m, name, predicted)) continue;
+    ResidualPoint p;
+    p.output = name;
+    p.source = job.source;
+    p.row = job.row;
+    p.omega_T = row.omega_T;
+    p.session_time = row.time;
+    p.data = measured;
+    p.model = predicted;
+    p.sigma = table.noise.at(name);
+    out.points.push_back(p);
+  }
+}
+
+void Evaluator::runSeriesJob(const Model& model, const std::vector<double>& values, const Job& job,
+                             Part part, Evaluation& out) const {
+  const TimeSeries& s = data_.series[job.source];
+  const double split = split_.series_split_time[job.source];
+  const double t_end = part == Part::kTrain ? split : s.t.back();
+  const SeriesTrace trace = traceSeries(model, values, job.source, t_end);
+  const int budget = options_.max_series_points;
+  const std::vector<int> train = selectSamples(s, s.t.front(), split, budget * 6 / 10);
+  const std::vector<int> held = selectSamples(s, split, s.t.back() + 1.0, budget * 4 / 10);
+  // The start of the track is a nuisance: offset = mean(data - model) over the training part.
+  Vec3 offset = Vec3::Zero();
+  for (int i : train)
+    offset +=
+        s.position[i] - interpolateAt(trace.t, s.t[i], [&](size_t k) { return trace.position[k]; });
+  if (!train.empty()) offset /= static_cast<double>(train.size());
+  std::vector<int> chosen;
+  if (part != Part::kHeldOut) chosen.insert(chosen.end(), train.begin(), train.end());
+  if (part != Part::kTrain) chosen.insert(chosen.end(), held.begin(), held.end());
+  for (int i : chosen) appendSampleResiduals(s, job.source, i, trace, offset, out);
 }
 
 Evaluator::SeriesTrace Evaluator::traceSeries(const Model& model, const std::vector<double>& values,

@@ -159,6 +159,74 @@ class ProgressCallback : public ceres::IterationCallback {
   const FitOptions& options_;
 };
 
+/// Minimises the cost over `u` (in place) within the coordinates' bounds; false (with the
+/// message in `result`) if Ceres gives no usable solution.
+bool solve(SimulationResiduals& cost, const Coordinates& coords, const FitOptions& options,
+           std::vector<double>& u, FitResult& result) {
+  const int n = static_cast<int>(u.size());
+  ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  problem.AddResidualBlock(&cost, nullptr, u.data());
+  for (int k = 0; k < n; ++k) {
+    problem.SetParameterLowerBound(u.data(), k, coords.lowerU(k));
+    problem.SetParameterUpperBound(u.data(), k, coords.upperU(k));
+  }
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = options.max_iterations;
+  so.function_tolerance = options.function_tolerance;
+  so.logging_type = ceres::SILENT;
+  so.minimizer_progress_to_stdout = false;
+  ProgressCallback callback(options);
+  so.callbacks.push_back(&callback);
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  result.iterations = static_cast<int>(summary.iterations.size());
+  result.message = summary.message;
+  if (!summary.IsSolutionUsable()) {
+    result.message = "the fit did not produce a usable solution: " + summary.message;
+    return false;
+  }
+  return true;
+}
+
+/// Covariance of u from the Jacobian at the optimum, (J^T J)^+ (known measurement noise), into
+/// result.sigma, and the training chi^2 from the same evaluation; false if it cannot be
+/// evaluated (result.sigma and result.chi_square left unchanged).
+bool uncertaintiesAt(const SimulationResiduals& cost, const Coordinates& coords,
+                     const std::vector<double>& u, FitResult& result) {
+  const int n = static_cast<int>(u.size());
+  std::vector<double> r(result.residual_count);
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> J(result.residual_count,
+                                                                           std::max(n, 1));
+  const double* params[] = {u.data()};
+  double* jac[] = {J.data()};
+  if (!(n > 0 && cost.Evaluate(params, r.data(), jac))) return false;
+  const Eigen::MatrixXd JtJ = J.leftCols(n).transpose() * J.leftCols(n);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(JtJ, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::VectorXd s = svd.singularValues();
+  Eigen::VectorXd inv = Eigen::VectorXd::Zero(n);
+  bool deficient = false;
+  for (int k = 0; k < n; ++k) {
+    if (s(k) > 1e-12 * s(0))
+      inv(k) = 1.0 / s(k);
+    else
+      deficient = true;
+  }
+  const Eigen::MatrixXd cov = svd.matrixV() * inv.asDiagonal() * svd.matrixU().transpose();
+  for (int k = 0; k < n; ++k) {
+    const int i = coords.free_index[k];
+    const double sigma_u = std::sqrt(std::max(cov(k, k), 0.0));
+    const FitParameter& p = coords.parameters[i];
+    result.sigma[i] = deficient ? std::numeric_limits<double>::quiet_NaN()
+                                : (p.log_scale ? result.values[i] * sigma_u : sigma_u);
+  }
+  result.chi_square = 0.0;
+  for (double x : r) result.chi_square += x * x;
+  return true;
+}
+
 }  // namespace
 
 FitResult fitModel(Model& model, const Evaluator& evaluator, const FitOptions& options,
@@ -193,64 +261,10 @@ FitResult fitModel(Model& model, const Evaluator& evaluator, const FitOptions& o
   SimulationResiduals cost(model, evaluator, coords, options, result.residual_count,
                            &result.evaluations);
   cost.prime(u, start);
-  if (n > 0) {
-    ceres::Problem::Options po;
-    po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    ceres::Problem problem(po);
-    problem.AddResidualBlock(&cost, nullptr, u.data());
-    for (int k = 0; k < n; ++k) {
-      problem.SetParameterLowerBound(u.data(), k, coords.lowerU(k));
-      problem.SetParameterUpperBound(u.data(), k, coords.upperU(k));
-    }
-    ceres::Solver::Options so;
-    so.linear_solver_type = ceres::DENSE_QR;
-    so.max_num_iterations = options.max_iterations;
-    so.function_tolerance = options.function_tolerance;
-    so.logging_type = ceres::SILENT;
-    so.minimizer_progress_to_stdout = false;
-    ProgressCallback callback(options);
-    so.callbacks.push_back(&callback);
-    ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
-    result.iterations = static_cast<int>(summary.iterations.size());
-    result.message = summary.message;
-    if (!summary.IsSolutionUsable()) {
-      result.message = "the fit did not produce a usable solution: " + summary.message;
-      return result;
-    }
-  }
+  if (n > 0 && !solve(cost, coords, options, u, result)) return result;
   result.values = coords.values(u.data());
   result.sigma.assign(result.values.size(), 0.0);
-
-  // Covariance of u from the Jacobian at the optimum: (J^T J)^+ (known measurement noise).
-  std::vector<double> r(result.residual_count);
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> J(result.residual_count,
-                                                                           std::max(n, 1));
-  const double* params[] = {u.data()};
-  double* jac[] = {J.data()};
-  if (n > 0 && cost.Evaluate(params, r.data(), jac)) {
-    const Eigen::MatrixXd JtJ = J.leftCols(n).transpose() * J.leftCols(n);
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(JtJ, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    const Eigen::VectorXd s = svd.singularValues();
-    Eigen::VectorXd inv = Eigen::VectorXd::Zero(n);
-    bool deficient = false;
-    for (int k = 0; k < n; ++k) {
-      if (s(k) > 1e-12 * s(0))
-        inv(k) = 1.0 / s(k);
-      else
-        deficient = true;
-    }
-    const Eigen::MatrixXd cov = svd.matrixV() * inv.asDiagonal() * svd.matrixU().transpose();
-    for (int k = 0; k < n; ++k) {
-      const int i = coords.free_index[k];
-      const double sigma_u = std::sqrt(std::max(cov(k, k), 0.0));
-      const FitParameter& p = coords.parameters[i];
-      result.sigma[i] = deficient ? std::numeric_limits<double>::quiet_NaN()
-                                  : (p.log_scale ? result.values[i] * sigma_u : sigma_u);
-    }
-    result.chi_square = 0.0;
-    for (double x : r) result.chi_square += x * x;
-  } else {
+  if (!uncertaintiesAt(cost, coords, u, result)) {
     const Evaluation end = evaluator.evaluate(model, result.values, Part::kTrain);
     result.chi_square = chiSquare(end);
   }

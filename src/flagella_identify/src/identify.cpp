@@ -29,34 +29,14 @@ double chiSquareCritical(int k) {
   return table[std::clamp(k, 1, 6) - 1];
 }
 
-Identification::Identification(MeasuredData data, YAML::Node baseline, std::string baseline_source,
-                               IdentifyOptions options)
-    : data_(std::move(data)),
-      baseline_(YAML::Clone(baseline)),
-      source_(std::move(baseline_source)),
-      options_(std::move(options)),
-      evaluator_(data_, makeSplit(data_), options_.evaluator) {}
+namespace {
 
-void Identification::say(const std::string& line) const {
-  if (options_.progress) options_.progress(line);
-}
-
-Model Identification::modelOf(const ModelOutcome& outcome) const {
-  Model model(baseline_, source_, options_.free);
-  for (const std::string& name : outcome.effects) model.addCandidate(candidateByName(name));
-  if (!outcome.parameters.empty()) model.parameters() = outcome.parameters;
-  return model;
-}
-
-ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>& effects,
-                                             const ModelOutcome& reference) {
-  ModelOutcome out;
-  Model model(baseline_, source_, options_.free);
-  for (const Candidate* c : effects) {
-    model.addCandidate(*c);
-    out.effects.push_back(c->name);
-  }
-  out.label = effects.empty() ? "baseline" : joined(out.effects, " + ");
+/// Start values for fitting `model` (the baseline plus `effects`): the reference model's values
+/// where the parameters coincide, and for each new candidate the best of its start points
+/// (training chi^2) with the others fixed. Adds the model evaluations to `evaluations`.
+std::vector<double> bestStartValues(const Evaluator& evaluator, const Model& model,
+                                    const std::vector<const Candidate*>& effects,
+                                    const ModelOutcome& reference, int& evaluations) {
   // Start from the reference model's values where the parameters coincide.
   const std::vector<double> config_values = model.values();
   std::vector<double> values = config_values;
@@ -81,8 +61,8 @@ ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>
           std::copy(start.begin(), start.end(), v.begin() + offset);
           trials.push_back(v);
         }
-      const std::vector<Evaluation> evals = evaluator_.evaluateMany(model, trials, Part::kTrain);
-      out.evaluations += static_cast<int>(trials.size());
+      const std::vector<Evaluation> evals = evaluator.evaluateMany(model, trials, Part::kTrain);
+      evaluations += static_cast<int>(trials.size());
       double best = std::numeric_limits<double>::infinity();
       for (size_t k = 0; k < trials.size(); ++k)
         if (evals[k].ok && chiSquare(evals[k]) < best) {
@@ -92,34 +72,17 @@ ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>
     }
     offset += c->variables.size();
   }
-  model.setValues(values);
-  say("  fitting " + out.label + " (" + std::to_string(model.parameters().size()) + " parameters)");
-  const FitResult fit = fitModel(model, evaluator_, options_.fit);
-  out.evaluations += fit.evaluations;
-  if (!fit.ok) {
-    out.note = fit.message;
-    say("    fit failed: " + fit.message);
-    return out;
-  }
-  out.fitted = true;
-  out.note = fit.message;
-  out.parameters = model.parameters();
-  out.extra_parameters = static_cast<int>(model.parameters().size()) - model.baselineCount();
-  out.train_chi_square = fit.chi_square;
-  out.train_count = fit.residual_count;
-  out.held_out = evaluator_.evaluate(model, model.values(), Part::kHeldOut);
+  return values;
+}
+
+/// The held-out scores of a fitted outcome whose held-out evaluation succeeded: noise test,
+/// share of the baseline's excess explained, and the test against `reference`.
+void scoreHeldOut(ModelOutcome& out, const ModelOutcome& reference, double base_excess) {
   const Evaluation& held = out.held_out;
-  out.evaluations += 1;
-  if (!held.ok) {
-    out.fitted = false;
-    out.note = "the fitted model fails on the held-out experiments: " + held.failure;
-    return out;
-  }
   out.held_out_chi_square = chiSquare(held);
   out.held_out_count = static_cast<int>(held.points.size());
   out.held_out_rms_z = std::sqrt(out.held_out_chi_square / std::max(1, out.held_out_count));
   out.noise_z = noiseZScore(out.held_out_chi_square, out.held_out_count);
-  const double base_excess = baseline_excess_;
   out.explained =
       base_excess > 0.0
           ? 1.0 - std::max(0.0, out.held_out_chi_square - out.held_out_count) / base_excess
@@ -131,107 +94,43 @@ ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>
     out.critical = chiSquareCritical(extra);
     out.significant = out.improvement - out.penalty > out.critical;
   }
-  say(formatted(
-          "    %.0f model evaluations, %.0f iterations; training chi^2 %.4g; held-out chi^2 %.4g",
-          out.evaluations, fit.iterations, out.train_chi_square, out.held_out_chi_square) +
-      formatted(" over %.0f residuals (RMS z %.3g)", out.held_out_count, out.held_out_rms_z));
-  return out;
 }
 
-IdentifyResult Identification::run() {
-  IdentifyResult result;
-  say("calibrating the baseline (" + source_ + ") on the training split");
-  ModelOutcome none;
-  result.baseline = fitModelOutcome({}, none);
-  result.total_evaluations += result.baseline.evaluations;
-  if (!result.baseline.fitted)
-    throw std::runtime_error("the baseline model could not be calibrated: " + result.baseline.note);
+/// Selection score: held-out chi^2 plus the parsimony penalty.
+double selectionScore(const ModelOutcome& m) { return m.held_out_chi_square + m.penalty; }
 
-  result.baseline_diagnosis = diagnose(result.baseline.held_out, data_);
-  const Diagnosis& d = result.baseline_diagnosis;
-  baseline_excess_ = std::max(0.0, d.chi_square - d.count);
-  say(formatted("diagnosis: held-out RMS z %.3g, noise test z = %.2f (significant above %.1f)",
-                d.rms_z, d.noise_z, kSignificanceZ));
-  for (const Signature& s : d.signatures) say("  signature: " + s.kind + " - " + s.text);
-  if (!d.significant) {
-    result.verdict = Verdict::kNoDiscrepancy;
-    result.summary = formatted(
-        "No significant discrepancy: the calibrated baseline predicts the held-out data within "
-        "the measurement noise (RMS z %.2f over %.0f residuals, noise test z = %.2f < %.1f). No "
-        "effect is named.",
-        d.rms_z, d.count, d.noise_z, kSignificanceZ);
-    return result;
-  }
-
-  // ---- every identifiable candidate, fitted together with the baseline parameters ----
-  const unsigned observables = observablesOf(data_);
-  std::vector<const Candidate*> pool;
-  if (options_.candidates.empty())
-    for (const Candidate& c : standardCandidates()) pool.push_back(&c);
-  else
-    for (const std::string& n : options_.candidates) pool.push_back(&candidateByName(n));
-  for (const Candidate* c : pool) {
-    const std::string reason = notIdentifiableReason(*c, observables);
-    if (!reason.empty()) {
-      ModelOutcome skipped;
-      skipped.label = c->name;
-      skipped.effects = {c->name};
-      skipped.note = "not identifiable from these data: " + reason;
-      result.candidates.push_back(skipped);
-      say("candidate " + c->name + ": skipped (" + reason + ")");
-      continue;
-    }
-    say("candidate " + c->name + ": " + c->title);
-    result.candidates.push_back(fitModelOutcome({c}, result.baseline));
-    result.total_evaluations += result.candidates.back().evaluations;
-  }
-
-  auto score = [](const ModelOutcome& m) { return m.held_out_chi_square + m.penalty; };
+/// The fitted, significant outcome with the lowest score; nullptr if there is none.
+const ModelOutcome* bestSignificant(const std::vector<ModelOutcome>& outcomes) {
   const ModelOutcome* best = nullptr;
-  for (const ModelOutcome& m : result.candidates)
-    if (m.fitted && m.significant && (!best || score(m) < score(*best))) best = &m;
+  for (const ModelOutcome& m : outcomes)
+    if (m.fitted && m.significant && (!best || selectionScore(m) < selectionScore(*best)))
+      best = &m;
+  return best;
+}
 
-  std::optional<ModelOutcome> chosen;
-  if (best) chosen = *best;
-  // One effect not enough: add a second one to the best and keep it if it is significant. Only
-  // a first effect that explains a sizeable share can mask a second one; when the best single
-  // effect explains little, a second effect would have shown on its own.
-  const bool pairable = chosen && chosen->noise_z > kSignificanceZ && options_.max_effects >= 2;
-  if (pairable && chosen->explained < kPairingShare) {
-    say("the best single effect (" + chosen->label +
-        formatted(") explains only %.1f %% of the excess (< %.0f %%); no pairs tried",
-                  100.0 * chosen->explained, 100.0 * kPairingShare));
-  } else if (pairable) {
-    say(formatted("the best single effect explains %.1f %% of the excess and leaves a significant "
-                  "residual; trying pairs with ",
-                  100.0 * chosen->explained) +
-        chosen->label);
-    const ModelOutcome first = *chosen;
-    for (const ModelOutcome& m : result.candidates) {
-      // every other fitted candidate: a second effect can be masked by the first one's larger
-      // discrepancy, so that on its own it does not even lower the held-out error
-      if (!m.fitted || m.label == first.label) continue;
-      std::vector<const Candidate*> pair{&candidateByName(first.effects[0]),
-                                         &candidateByName(m.effects[0])};
-      ModelOutcome combined = fitModelOutcome(pair, first);
-      result.total_evaluations += combined.evaluations;
-      result.combinations.push_back(combined);
-    }
-    const ModelOutcome* best_pair = nullptr;
-    for (const ModelOutcome& m : result.combinations)
-      if (m.fitted && m.significant && (!best_pair || score(m) < score(*best_pair))) best_pair = &m;
-    if (best_pair) chosen = *best_pair;
-  }
+/// The summary when the calibrated baseline predicts the held-out data within the noise.
+std::string noDiscrepancySummary(const Diagnosis& d) {
+  return formatted(
+      "No significant discrepancy: the calibrated baseline predicts the held-out data within "
+      "the measurement noise (RMS z %.2f over %.0f residuals, noise test z = %.2f < %.1f). No "
+      "effect is named.",
+      d.rms_z, d.count, d.noise_z, kSignificanceZ);
+}
 
-  if (chosen) {
-    result.chosen = chosen;
-    result.chosen_diagnosis = diagnose(chosen->held_out, data_);
-    result.gain = 1.0 - chosen->held_out_rms_z / std::max(1e-300, d.rms_z);
-  }
+/// "kind in output; ..." of the diagnosis' signatures, or "no simple signature".
+std::string signatureList(const Diagnosis& d) {
   std::string signatures;
   for (const Signature& s : d.signatures)
     signatures += (signatures.empty() ? "" : "; ") + s.kind + " in " + s.output;
   if (signatures.empty()) signatures = "no simple signature";
+  return signatures;
+}
+
+/// The verdict, the named effects and the summary for a significant baseline discrepancy,
+/// given the chosen model (if any); result.gain is already set.
+void decideVerdict(IdentifyResult& result, const std::optional<ModelOutcome>& chosen) {
+  const Diagnosis& d = result.baseline_diagnosis;
+  const std::string signatures = signatureList(d);
   if (chosen && chosen->explained >= kExplainedShare) {
     result.verdict = Verdict::kNamedCause;
     result.named = chosen->effects;
@@ -270,6 +169,154 @@ IdentifyResult Identification::run() {
           "No candidate effect improves the held-out error significantly, so no "
           "cause is named.";
   }
+}
+
+}  // namespace
+
+Identification::Identification(MeasuredData data, YAML::Node baseline, std::string baseline_source,
+                               IdentifyOptions options)
+    : data_(std::move(data)),
+      baseline_(YAML::Clone(baseline)),
+      source_(std::move(baseline_source)),
+      options_(std::move(options)),
+      evaluator_(data_, makeSplit(data_), options_.evaluator) {}
+
+void Identification::say(const std::string& line) const {
+  if (options_.progress) options_.progress(line);
+}
+
+Model Identification::modelOf(const ModelOutcome& outcome) const {
+  Model model(baseline_, source_, options_.free);
+  for (const std::string& name : outcome.effects) model.addCandidate(candidateByName(name));
+  if (!outcome.parameters.empty()) model.parameters() = outcome.parameters;
+  return model;
+}
+
+ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>& effects,
+                                             const ModelOutcome& reference) {
+  ModelOutcome out;
+  Model model(baseline_, source_, options_.free);
+  for (const Candidate* c : effects) {
+    model.addCandidate(*c);
+    out.effects.push_back(c->name);
+  }
+  out.label = effects.empty() ? "baseline" : joined(out.effects, " + ");
+  model.setValues(bestStartValues(evaluator_, model, effects, reference, out.evaluations));
+  say("  fitting " + out.label + " (" + std::to_string(model.parameters().size()) + " parameters)");
+  const FitResult fit = fitModel(model, evaluator_, options_.fit);
+  out.evaluations += fit.evaluations;
+  if (!fit.ok) {
+    out.note = fit.message;
+    say("    fit failed: " + fit.message);
+    return out;
+  }
+  out.fitted = true;
+  out.note = fit.message;
+  out.parameters = model.parameters();
+  out.extra_parameters = static_cast<int>(model.parameters().size()) - model.baselineCount();
+  out.train_chi_square = fit.chi_square;
+  out.train_count = fit.residual_count;
+  out.held_out = evaluator_.evaluate(model, model.values(), Part::kHeldOut);
+  out.evaluations += 1;
+  if (!out.held_out.ok) {
+    out.fitted = false;
+    out.note = "the fitted model fails on the held-out experiments: " + out.held_out.failure;
+    return out;
+  }
+  scoreHeldOut(out, reference, baseline_excess_);
+  say(formatted(
+          "    %.0f model evaluations, %.0f iterations; training chi^2 %.4g; held-out chi^2 %.4g",
+          out.evaluations, fit.iterations, out.train_chi_square, out.held_out_chi_square) +
+      formatted(" over %.0f residuals (RMS z %.3g)", out.held_out_count, out.held_out_rms_z));
+  return out;
+}
+
+void Identification::fitCandidates(IdentifyResult& result) {
+  const unsigned observables = observablesOf(data_);
+  std::vector<const Candidate*> pool;
+  if (options_.candidates.empty())
+    for (const Candidate& c : standardCandidates()) pool.push_back(&c);
+  else
+    for (const std::string& n : options_.candidates) pool.push_back(&candidateByName(n));
+  for (const Candidate* c : pool) {
+    const std::string reason = notIdentifiableReason(*c, observables);
+    if (!reason.empty()) {
+      ModelOutcome skipped;
+      skipped.label = c->name;
+      skipped.effects = {c->name};
+      skipped.note = "not identifiable from these data: " + reason;
+      result.candidates.push_back(skipped);
+      say("candidate " + c->name + ": skipped (" + reason + ")");
+      continue;
+    }
+    say("candidate " + c->name + ": " + c->title);
+    result.candidates.push_back(fitModelOutcome({c}, result.baseline));
+    result.total_evaluations += result.candidates.back().evaluations;
+  }
+}
+
+void Identification::tryPairs(IdentifyResult& result, std::optional<ModelOutcome>& chosen) {
+  // One effect not enough: add a second one to the best and keep it if it is significant. Only
+  // a first effect that explains a sizeable share can mask a second one; when the best single
+  // effect explains little, a second effect would have shown on its own.
+  const bool pairable = chosen && chosen->noise_z > kSignificanceZ && options_.max_effects >= 2;
+  if (pairable && chosen->explained < kPairingShare) {
+    say("the best single effect (" + chosen->label +
+        formatted(") explains only %.1f %% of the excess (< %.0f %%); no pairs tried",
+                  100.0 * chosen->explained, 100.0 * kPairingShare));
+  } else if (pairable) {
+    say(formatted("the best single effect explains %.1f %% of the excess and leaves a significant "
+                  "residual; trying pairs with ",
+                  100.0 * chosen->explained) +
+        chosen->label);
+    const ModelOutcome first = *chosen;
+    for (const ModelOutcome& m : result.candidates) {
+      // every other fitted candidate: a second effect can be masked by the first one's larger
+      // discrepancy, so that on its own it does not even lower the held-out error
+      if (!m.fitted || m.label == first.label) continue;
+      std::vector<const Candidate*> pair{&candidateByName(first.effects[0]),
+                                         &candidateByName(m.effects[0])};
+      ModelOutcome combined = fitModelOutcome(pair, first);
+      result.total_evaluations += combined.evaluations;
+      result.combinations.push_back(combined);
+    }
+    if (const ModelOutcome* best_pair = bestSignificant(result.combinations)) chosen = *best_pair;
+  }
+}
+
+IdentifyResult Identification::run() {
+  IdentifyResult result;
+  say("calibrating the baseline (" + source_ + ") on the training split");
+  ModelOutcome none;
+  result.baseline = fitModelOutcome({}, none);
+  result.total_evaluations += result.baseline.evaluations;
+  if (!result.baseline.fitted)
+    throw std::runtime_error("the baseline model could not be calibrated: " + result.baseline.note);
+
+  result.baseline_diagnosis = diagnose(result.baseline.held_out, data_);
+  const Diagnosis& d = result.baseline_diagnosis;
+  baseline_excess_ = std::max(0.0, d.chi_square - d.count);
+  say(formatted("diagnosis: held-out RMS z %.3g, noise test z = %.2f (significant above %.1f)",
+                d.rms_z, d.noise_z, kSignificanceZ));
+  for (const Signature& s : d.signatures) say("  signature: " + s.kind + " - " + s.text);
+  if (!d.significant) {
+    result.verdict = Verdict::kNoDiscrepancy;
+    result.summary = noDiscrepancySummary(d);
+    return result;
+  }
+
+  // ---- every identifiable candidate, fitted together with the baseline parameters ----
+  fitCandidates(result);
+  std::optional<ModelOutcome> chosen;
+  if (const ModelOutcome* best = bestSignificant(result.candidates)) chosen = *best;
+  tryPairs(result, chosen);
+
+  if (chosen) {
+    result.chosen = chosen;
+    result.chosen_diagnosis = diagnose(chosen->held_out, data_);
+    result.gain = 1.0 - chosen->held_out_rms_z / std::max(1e-300, d.rms_z);
+  }
+  decideVerdict(result, chosen);
   say("verdict: " + verdictText(result.verdict) +
       (result.named.empty() ? "" : " (" + joined(result.named, " + ") + ")"));
   return result;

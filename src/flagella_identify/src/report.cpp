@@ -110,59 +110,42 @@ std::string diagnosisTables(const Diagnosis& d) {
   return md.str();
 }
 
-}  // namespace
+/// extended_config.yaml: the named effects on the baseline (or the calibrated baseline alone).
+void writeExtendedConfig(const std::string& yaml_path, const IdentifyResult& r,
+                         const ReportInputs& inputs, const Model& config_model, bool named) {
+  std::ofstream out(yaml_path);
+  out << "# " << (named ? "Extended" : "Calibrated baseline") << " robot config from "
+      << inputs.baseline_config << "\n# identification verdict: " << verdictText(r.verdict);
+  if (named) out << " (" << joined(r.named, " + ") << ")";
+  out << "\n# run it: flagella_run run " << yaml_path << "\n";
+  YAML::Emitter e;
+  e << config_model.extendedConfig();
+  out << e.c_str() << "\n";
+}
 
-std::vector<std::string> writeReport(const Identification& identification, const IdentifyResult& r,
-                                     const ReportInputs& inputs, const std::string& directory) {
-  namespace fs = std::filesystem;
-  fs::create_directories(directory);
-  const std::string json_path = (fs::path(directory) / "report.json").string();
-  const std::string md_path = (fs::path(directory) / "report.md").string();
-  const std::string yaml_path = (fs::path(directory) / "extended_config.yaml").string();
-  const std::string csv_path = (fs::path(directory) / "plot_data.csv").string();
-
-  const Model baseline = identification.modelOf(r.baseline);
-  const Model extended = r.chosen ? identification.modelOf(*r.chosen) : baseline;
-  const bool named = r.verdict == Verdict::kNamedCause;
-
-  // ---- extended config (only the named effects; the baseline calibrated otherwise) ----
-  {
-    std::ofstream out(yaml_path);
-    out << "# " << (named ? "Extended" : "Calibrated baseline") << " robot config from "
-        << inputs.baseline_config << "\n# identification verdict: " << verdictText(r.verdict);
-    if (named) out << " (" << joined(r.named, " + ") << ")";
-    out << "\n# run it: flagella_run run " << yaml_path << "\n";
-    YAML::Emitter e;
-    e << (named ? extended : baseline).extendedConfig();
-    out << e.c_str() << "\n";
+/// plot_data.csv: every residual of the whole data set, with both models.
+void writePlotData(const std::string& csv_path, const Split& split, const Evaluation& base_all,
+                   const Evaluation& ext_all) {
+  std::ofstream out(csv_path);
+  out << "kind,source,row,output,omega_T_rpm,session_time_s,run_time_s,held_out,data,sigma,"
+         "baseline,extended\n";
+  for (size_t i = 0; i < base_all.points.size() && i < ext_all.points.size(); ++i) {
+    const ResidualPoint& p = base_all.points[i];
+    const bool held = p.from_series ? p.run_time >= split.series_split_time[p.source]
+                                    : static_cast<bool>(split.table_row_held_out[p.source][p.row]);
+    char line[512];
+    std::snprintf(line, sizeof line, "%s,%d,%d,%s,%.6g,%.6g,%.6g,%d,%.10g,%.6g,%.10g,%.10g\n",
+                  p.from_series ? "series" : "table", p.source, p.row, p.output.c_str(),
+                  p.omega_T * 60.0 / (2.0 * M_PI),
+                  std::isfinite(p.session_time) ? p.session_time : -1.0, p.run_time, held ? 1 : 0,
+                  p.data, p.sigma, p.model, ext_all.points[i].model);
+    out << line;
   }
+}
 
-  // ---- plot data: every residual of the whole data set, both models ----
-  const Evaluation base_all =
-      identification.evaluator().evaluate(baseline, baseline.values(), Part::kAll);
-  const Evaluation ext_all =
-      identification.evaluator().evaluate(extended, extended.values(), Part::kAll);
-  {
-    const Split& split = identification.evaluator().split();
-    std::ofstream out(csv_path);
-    out << "kind,source,row,output,omega_T_rpm,session_time_s,run_time_s,held_out,data,sigma,"
-           "baseline,extended\n";
-    for (size_t i = 0; i < base_all.points.size() && i < ext_all.points.size(); ++i) {
-      const ResidualPoint& p = base_all.points[i];
-      const bool held = p.from_series
-                            ? p.run_time >= split.series_split_time[p.source]
-                            : static_cast<bool>(split.table_row_held_out[p.source][p.row]);
-      char line[512];
-      std::snprintf(line, sizeof line, "%s,%d,%d,%s,%.6g,%.6g,%.6g,%d,%.10g,%.6g,%.10g,%.10g\n",
-                    p.from_series ? "series" : "table", p.source, p.row, p.output.c_str(),
-                    p.omega_T * 60.0 / (2.0 * M_PI),
-                    std::isfinite(p.session_time) ? p.session_time : -1.0, p.run_time, held ? 1 : 0,
-                    p.data, p.sigma, p.model, ext_all.points[i].model);
-      out << line;
-    }
-  }
-
-  // ---- JSON ----
+/// report.json: everything, machine-readable.
+json reportJson(const IdentifyResult& r, const ReportInputs& inputs, const std::string& yaml_path,
+                bool named) {
   json j;
   j["verdict"] = verdictText(r.verdict);
   j["named_causes"] = r.named;
@@ -187,10 +170,12 @@ std::vector<std::string> writeReport(const Identification& identification, const
        "for the calibrated baseline)"}};
   j["extended_config"] = yaml_path;
   j["model_evaluations"] = r.total_evaluations;
-  std::ofstream(json_path) << j.dump(2) << "\n";
+  return j;
+}
 
-  // ---- Markdown ----
-  std::ostringstream md;
+/// The Markdown report up to its gain table: verdict, summary, inputs, held-out gain.
+void markdownHead(std::ostringstream& md, const IdentifyResult& r, const ReportInputs& inputs,
+                  bool named) {
   md << "# Model discovery report\n\n";
   md << "**Verdict: " << verdictText(r.verdict);
   if (named) {
@@ -213,14 +198,10 @@ std::vector<std::string> writeReport(const Identification& identification, const
        << num(r.chosen->noise_z, 3) << " |\n";
   md << "\nGain: " << (named ? num(100.0 * r.gain, 3) + " %" : std::string("none (no cause named)"))
      << " (1 - RMS z after / before; RMS z = 1 is the measurement noise).\n\n";
-  md << "## 1. Calibrated baseline\n\n"
-     << parameterTable(r.baseline.parameters) << "\nTraining chi^2 "
-     << num(r.baseline.train_chi_square) << " over " << r.baseline.train_count << " residuals.\n\n";
-  md << "## 2. Diagnosis of the calibrated baseline (held-out data)\n\nHeld-out RMS z "
-     << num(r.baseline_diagnosis.rms_z, 3) << " over " << r.baseline_diagnosis.count
-     << " residuals; noise test z = " << num(r.baseline_diagnosis.noise_z, 3)
-     << " (significant above " << kSignificanceZ << ").\n\n"
-     << diagnosisTables(r.baseline_diagnosis) << "\n";
+}
+
+/// Section 3 of the Markdown report: one line per candidate and pair.
+void candidateSection(std::ostringstream& md, const IdentifyResult& r) {
   md << "## 3. Candidate effects\n\n| candidate | fitted | held-out RMS z | chi^2 drop | penalty + "
         "critical | significant | share of excess explained | remaining noise z "
         "|\n|---|---|---|---|---|---|---|---|\n";
@@ -235,6 +216,22 @@ std::vector<std::string> writeReport(const Identification& identification, const
          << (m.significant ? "yes" : "no") << " | " << num(100.0 * m.explained, 3) << " % | "
          << num(m.noise_z, 3) << " |\n";
     }
+}
+
+/// report.md: for a reader.
+std::string reportMarkdown(const IdentifyResult& r, const ReportInputs& inputs,
+                           const std::string& yaml_path, bool named) {
+  std::ostringstream md;
+  markdownHead(md, r, inputs, named);
+  md << "## 1. Calibrated baseline\n\n"
+     << parameterTable(r.baseline.parameters) << "\nTraining chi^2 "
+     << num(r.baseline.train_chi_square) << " over " << r.baseline.train_count << " residuals.\n\n";
+  md << "## 2. Diagnosis of the calibrated baseline (held-out data)\n\nHeld-out RMS z "
+     << num(r.baseline_diagnosis.rms_z, 3) << " over " << r.baseline_diagnosis.count
+     << " residuals; noise test z = " << num(r.baseline_diagnosis.noise_z, 3)
+     << " (significant above " << kSignificanceZ << ").\n\n"
+     << diagnosisTables(r.baseline_diagnosis) << "\n";
+  candidateSection(md, r);
   if (r.chosen) {
     md << "\n## 4. "
        << (named ? "Named cause and fitted parameters" : "Best partial model (no cause named)")
@@ -244,7 +241,36 @@ std::vector<std::string> writeReport(const Identification& identification, const
   }
   md << "\n## 5. Extended config\n\n`" << yaml_path << "` (runnable: `flagella_run run "
      << yaml_path << "`).\n";
-  std::ofstream(md_path) << md.str();
+  return md.str();
+}
+
+}  // namespace
+
+std::vector<std::string> writeReport(const Identification& identification, const IdentifyResult& r,
+                                     const ReportInputs& inputs, const std::string& directory) {
+  namespace fs = std::filesystem;
+  fs::create_directories(directory);
+  const std::string json_path = (fs::path(directory) / "report.json").string();
+  const std::string md_path = (fs::path(directory) / "report.md").string();
+  const std::string yaml_path = (fs::path(directory) / "extended_config.yaml").string();
+  const std::string csv_path = (fs::path(directory) / "plot_data.csv").string();
+
+  const Model baseline = identification.modelOf(r.baseline);
+  const Model extended = r.chosen ? identification.modelOf(*r.chosen) : baseline;
+  const bool named = r.verdict == Verdict::kNamedCause;
+
+  // ---- extended config (only the named effects; the baseline calibrated otherwise) ----
+  writeExtendedConfig(yaml_path, r, inputs, named ? extended : baseline, named);
+
+  // ---- plot data: every residual of the whole data set, both models ----
+  const Evaluation base_all =
+      identification.evaluator().evaluate(baseline, baseline.values(), Part::kAll);
+  const Evaluation ext_all =
+      identification.evaluator().evaluate(extended, extended.values(), Part::kAll);
+  writePlotData(csv_path, identification.evaluator().split(), base_all, ext_all);
+
+  std::ofstream(json_path) << reportJson(r, inputs, yaml_path, named).dump(2) << "\n";
+  std::ofstream(md_path) << reportMarkdown(r, inputs, yaml_path, named);
   return {md_path, json_path, yaml_path, csv_path};
 }
 

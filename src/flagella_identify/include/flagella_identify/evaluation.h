@@ -80,6 +80,12 @@ class Evaluator {
   };
   void runJob(const Model& model, const std::vector<double>& values, const Job& job, Part part,
               Evaluation& out) const;
+  /// One table row: a steady run at the row's motor speed, residuals of its measured outputs.
+  void runTableJob(const Model& model, const std::vector<double>& values, const Job& job,
+                   Evaluation& out) const;
+  /// One series: the simulated run, residuals at the samples of the requested part.
+  void runSeriesJob(const Model& model, const std::vector<double>& values, const Job& job,
+                    Part part, Evaluation& out) const;
 
   MeasuredData data_;
   Split split_;

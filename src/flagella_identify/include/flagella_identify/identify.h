@@ -80,6 +80,13 @@ class Identification {
  private:
   ModelOutcome fitModelOutcome(const std::vector<const Candidate*>& effects,
                                const ModelOutcome& reference);
+  /// Fits every identifiable candidate (of the options' list) alone with the baseline;
+  /// records skipped ones with the reason.
+  void fitCandidates(IdentifyResult& result);
+  /// When the best single effect `chosen` leaves a significant residual and explains enough to
+  /// mask a second effect, fits it paired with each other fitted candidate (into
+  /// result.combinations) and replaces `chosen` by the best significant pair.
+  void tryPairs(IdentifyResult& result, std::optional<ModelOutcome>& chosen);
   void say(const std::string& line) const;
 
   MeasuredData data_;
