@@ -15,8 +15,11 @@
 #include "flagella_control/calibration.h"
 #include "flagella_control/calibration_runner.h"
 #include "flagella_control/heading.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/simulation/simulation_config.h"
 #include "support/temp_dir.h"
+
+namespace units = flagella::units;
 
 namespace flagella_control {
 namespace {
@@ -40,7 +43,7 @@ using flagella::testing::errorMessageOf;
 // Values with long binary expansions, so that an exact round trip is a real test.
 BinaryCalibration example() {
   BinaryCalibration c;
-  c.omega = 43.27 * 2.0 * M_PI / 60.0;
+  c.omega = units::rpmToRadPerSec(43.27);
   c.switch_period = 10.0;
   c.plus.yaw_rate = -0.1 / 3.0;
   c.plus.circle_radius = 0.1 / 3.0;
@@ -215,7 +218,7 @@ BinaryCalibration* InterfaceCalibration::calibration_ = nullptr;
 TEST_F(InterfaceCalibration, ResultIsValidAndDescribesItsSource) {
   const BinaryCalibration& c = *calibration_;
   EXPECT_NO_THROW(c.validate());
-  EXPECT_DOUBLE_EQ(c.omega, 43.27 * 2.0 * M_PI / 60.0);  // from the config's motor.omega_rpm
+  EXPECT_DOUBLE_EQ(c.omega, units::rpmToRadPerSec(43.27));  // from the config's motor.omega_rpm
   EXPECT_EQ(c.switch_period, 10.0);
   EXPECT_NE(c.source.find("interface_path_planning.yaml"), std::string::npos) << c.source;
   EXPECT_NE(c.source.find("measure 40 s"), std::string::npos) << c.source;
@@ -291,11 +294,12 @@ TEST_F(InterfaceCalibration, SwitchingAdvanceMatchesTheConstantSignResponses) {
   std::printf(
       "switching T = %g s: advance %.3f mm/period at %.2f deg; predicted from constant "
       "sign %.3f mm at %.2f deg (ratio %.3f)\n",
-      c.switch_period, 1e3 * c.advance_per_period, c.advance_angle * 180.0 / M_PI,
-      1e3 * predicted.norm(), std::atan2(predicted.y(), predicted.x()) * 180.0 / M_PI, ratio);
+      c.switch_period, units::metresToMm(c.advance_per_period), units::radToDeg(c.advance_angle),
+      units::metresToMm(predicted.norm()),
+      units::radToDeg(std::atan2(predicted.y(), predicted.x())), ratio);
   EXPECT_GT(ratio, 0.85);
   EXPECT_LT(ratio, 1.05);
-  EXPECT_LT(std::abs(angle_error), 3.0 * M_PI / 180.0);
+  EXPECT_LT(std::abs(angle_error), units::degToRad(3.0));
 }
 
 // The yaw comes from the lateral head force F = -C_yr mu0 R L_head Omega_h xhat (spec 3.3): with

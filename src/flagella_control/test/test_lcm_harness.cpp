@@ -13,17 +13,20 @@
 #include <vector>
 
 #include "flagella_control/lcm_harness.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
+
+namespace units = flagella::units;
 
 namespace flagella_control {
 namespace {
 
 const std::string kConfig = std::string(FLAGELLA_CONFIG_DIR) + "/interface_path_planning.yaml";
-constexpr double kOmega = 43.27 * 2.0 * M_PI / 60.0;   // [rad/s], the config's omega_H
-constexpr double kHalfPeriod = 5.0;                    // [s]
-constexpr double kDuration = 20.0;                     // [s]: two full switching periods
-constexpr double kImuRate = 100.0, kStateRate = 20.0;  // [Hz]
+constexpr double kOmega = units::rpmToRadPerSec(43.27);  // [rad/s], the config's omega_H
+constexpr double kHalfPeriod = 5.0;                      // [s]
+constexpr double kDuration = 20.0;                       // [s]: two full switching periods
+constexpr double kImuRate = 100.0, kStateRate = 20.0;    // [Hz]
 // Switching instants differ by at most one step (0.01 s of each 5 s half): the head path may
 // differ by a fraction of a percent of the distance travelled.
 constexpr double kSamePathTol = 0.01;

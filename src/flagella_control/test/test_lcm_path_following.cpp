@@ -8,9 +8,11 @@
 #include "flagella_control/lcm_harness.h"
 #include "flagella_control/path_controllers.h"
 #include "flagella_control/tracking_metrics.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
 namespace fc = flagella_control;
+namespace units = flagella::units;
 
 TEST(LcmPathFollowing, ControllerCoreDrivesTheSimulatorAroundASquare) {
   const std::string dir = FLAGELLA_CONFIG_DIR;
@@ -43,10 +45,12 @@ TEST(LcmPathFollowing, ControllerCoreDrivesTheSimulatorAroundASquare) {
     }
   });
   const double l = config.geometry.tail_length;
-  std::printf("[ lcm path ] square: %s at t = %.1f s; cross-track max %.1f mm (%.3f l), RMS %.1f mm "
-              "(%.3f l); position estimate error max %.1f mm\n",
-              finished ? "finished" : "NOT finished", session.time(), 1e3 * stats.max_abs,
-              stats.max_abs / l, 1e3 * stats.rms(), stats.rms() / l, 1e3 * estimate_error);
+  std::printf(
+      "[ lcm path ] square: %s at t = %.1f s; cross-track max %.1f mm (%.3f l), RMS %.1f mm "
+      "(%.3f l); position estimate error max %.1f mm\n",
+      finished ? "finished" : "NOT finished", session.time(), units::metresToMm(stats.max_abs),
+      stats.max_abs / l, units::metresToMm(stats.rms()), stats.rms() / l,
+      units::metresToMm(estimate_error));
   EXPECT_TRUE(finished);
   EXPECT_FALSE(session.halted());
   // The square's side is 0.3 m = 2.7 l; the robot turns on a circle of about 1 l, so corners

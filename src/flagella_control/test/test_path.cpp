@@ -14,8 +14,10 @@
 #include "flagella_control/heading.h"
 #include "flagella_control/path.h"
 #include "flagella_control/path_spec.h"
+#include "flagella_sim/core/units.h"
 
 namespace fc = flagella_control;
+namespace units = flagella::units;
 using fc::Path;
 using fc::Vec2;
 
@@ -58,8 +60,7 @@ TEST(PathGeometry, LengthsOfBasicShapes) {
 
   EXPECT_NEAR(rectangle(0.3, 0.2, true).length(), 1.0, kTol);
   const double a = 0.25;
-  const Path triangle =
-      Path::polyline({{0, 0}, {a, 0}, {a / 2, a * std::sqrt(3.0) / 2}}, true);
+  const Path triangle = Path::polyline({{0, 0}, {a, 0}, {a / 2, a * std::sqrt(3.0) / 2}}, true);
   EXPECT_NEAR(triangle.length(), 3 * a, 1e-12);
 
   const Path circle = Path::circle({1, 2}, 0.3, 0.2, true);
@@ -130,8 +131,8 @@ TEST(PathGeometry, AtOnClosedPathWraps) {
 
 TEST(PathGeometry, AtOnCirclesCcwAndCw) {
   const double r = 0.2;
-  const Path ccw = Path::circle({0, 0}, 0.0, r, true);   // centre (0, r)
-  const Path cw = Path::circle({0, 0}, 0.0, r, false);   // centre (0, -r)
+  const Path ccw = Path::circle({0, 0}, 0.0, r, true);  // centre (0, r)
+  const Path cw = Path::circle({0, 0}, 0.0, r, false);  // centre (0, -r)
   for (double s = 0.0; s < 2.5 * ccw.length(); s += 0.0371) {
     const double th = s / r;
     const fc::PathPoint a = ccw.at(s);
@@ -190,8 +191,8 @@ TEST(PathGeometry, ProjectOnLinesSignedCrossTrack) {
 
 TEST(PathGeometry, ProjectOnCirclesInsideOutside) {
   const double r = 0.2;
-  const Path ccw = Path::circle({0, 0}, 0.0, r, true);   // centre (0, r), start angle -pi/2
-  const Path cw = Path::circle({0, 0}, 0.0, r, false);   // centre (0, -r), start angle +pi/2
+  const Path ccw = Path::circle({0, 0}, 0.0, r, true);  // centre (0, r), start angle -pi/2
+  const Path cw = Path::circle({0, 0}, 0.0, r, false);  // centre (0, -r), start angle +pi/2
   for (double phi : {-2.0, -1.2, -0.3, 0.4, 1.0, 2.5, 3.0}) {
     for (double rho : {0.05, 0.15, 0.25, 0.4}) {
       // CCW: inside is on the left.
@@ -273,8 +274,9 @@ TEST(PathGeometry, WindowedProjectionIsTheNearestPointOfTheWindow) {
   // A point just behind the start of a circle, inside it; a window ahead of the start. The
   // nearest point of the window is its near (lower) end, not its far end.
   const Path c = Path::circle({0, 0}, 0.0, 0.2, true);  // centre (0, 0.2)
-  const double behind = -5.0 * M_PI / 180;               // 5 degrees before the start
-  const Vec2 q = Vec2(0, 0.2) + 0.12 * Vec2(std::cos(-M_PI / 2 + behind), std::sin(-M_PI / 2 + behind));
+  const double behind = units::degToRad(-5.0);          // 5 degrees before the start
+  const Vec2 q =
+      Vec2(0, 0.2) + 0.12 * Vec2(std::cos(-M_PI / 2 + behind), std::sin(-M_PI / 2 + behind));
   fc::PathProjection p = c.project(q, 0.05, 0.22);
   EXPECT_NEAR(p.s, 0.05, 1e-12) << "the window end nearer to the point";
   EXPECT_NEAR(p.distance, bruteForceDistance(c, q, 0.05, 0.22), 1e-9);
@@ -322,8 +324,7 @@ TEST(PathGeometry, TurnAfterCorners) {
   const double a = 0.3;
   const Path tri = Path::polyline({{0, 0}, {a, 0}, {a / 2, a * std::sqrt(3.0) / 2}}, true);
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(tri.turnAfter(i), 2 * M_PI / 3, 1e-12) << i;
-  const Path tri_right =
-      Path::polyline({{0, 0}, {a, 0}, {a / 2, -a * std::sqrt(3.0) / 2}}, true);
+  const Path tri_right = Path::polyline({{0, 0}, {a, 0}, {a / 2, -a * std::sqrt(3.0) / 2}}, true);
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(tri_right.turnAfter(i), -2 * M_PI / 3, 1e-12) << i;
 
   const Path open = Path::polyline({{0, 0}, {1, 0}, {1, 1}, {2, 2}}, false);
@@ -342,9 +343,9 @@ TEST(PathGeometry, TransformedIsARigidMotion) {
   const Vec2 offset(0.7, -1.3);
   const double yaw = 2.1;
   const Eigen::Rotation2Dd R(yaw);
-  const std::vector<Path> paths = {rectangle(0.3, 0.2, true),
-                                   Path::polyline({{0, 0}, {0.2, 0}, {0.35, 0.15}, {0.5, 0}}, false),
-                                   Path::circle({0, 0}, 0.0, 0.2, false)};
+  const std::vector<Path> paths = {
+      rectangle(0.3, 0.2, true), Path::polyline({{0, 0}, {0.2, 0}, {0.35, 0.15}, {0.5, 0}}, false),
+      Path::circle({0, 0}, 0.0, 0.2, false)};
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-0.4, 0.6);
   for (const Path& p : paths) {
@@ -410,7 +411,7 @@ TEST(Heading, FromQuaternionIsTheHeadAxisAzimuth) {
   using Eigen::Vector3d;
   // Head axis = body z. Ry(+90 deg) maps body z to world +x; Rz(azimuth) then turns it.
   for (double az_deg : {30.0, -150.0, 0.0, 90.0, 179.0, -45.0}) {
-    const double az = az_deg * M_PI / 180;
+    const double az = units::degToRad(az_deg);
     for (double roll : {0.0, 0.4, 1.7, -2.9, M_PI}) {
       for (double elevation : {0.0, 0.3, -0.5}) {
         // Roll about the head axis itself (applied first, in the body frame), tilt up/down.
@@ -465,8 +466,8 @@ TEST(PathSpec, TriangleCircleAndPolyline) {
               1e-12);
   EXPECT_NEAR(t.path.turnAfter(1), 2 * M_PI / 3, 1e-12);
 
-  const fc::PathSpec c = fc::pathSpecFromYaml(
-      YAML::Load("shape: circle\nradius: 0.2\nturn: right\nframe: world\n"));
+  const fc::PathSpec c =
+      fc::pathSpecFromYaml(YAML::Load("shape: circle\nradius: 0.2\nturn: right\nframe: world\n"));
   EXPECT_EQ(c.frame, fc::PathFrame::World);
   EXPECT_TRUE(c.path.closed());
   EXPECT_NEAR(c.path.length(), 2 * M_PI * 0.2, 1e-12);
@@ -479,8 +480,8 @@ TEST(PathSpec, TriangleCircleAndPolyline) {
   EXPECT_FALSE(p.path.closed());
   EXPECT_EQ(p.path.elements().size(), 3u);
   EXPECT_NEAR(p.path.length(), 0.2 + 2 * 0.15 * std::sqrt(2.0), 1e-12);
-  const fc::PathSpec pc = fc::pathSpecFromYaml(
-      YAML::Load("{shape: polyline, closed: true, laps: 3, points: [[0, 0], [0.2, 0], [0.2, 0.1]]}"));
+  const fc::PathSpec pc = fc::pathSpecFromYaml(YAML::Load(
+      "{shape: polyline, closed: true, laps: 3, points: [[0, 0], [0.2, 0], [0.2, 0.1]]}"));
   EXPECT_TRUE(pc.path.closed());
   EXPECT_EQ(pc.laps, 3);
   EXPECT_NEAR(pc.path.length(), 0.2 + 0.1 + std::hypot(0.2, 0.1), 1e-12);

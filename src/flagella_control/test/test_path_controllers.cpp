@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "flagella_control/path_controllers.h"
+#include "flagella_sim/core/units.h"
 #include "support/sign_response.h"
 
 // ---- heap-allocation counter (whole test binary; counts only while enabled) ------------------
@@ -80,6 +81,7 @@ void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept 
 void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
 
 namespace fc = flagella_control;
+namespace units = flagella::units;
 using fc::Path;
 using fc::Vec2;
 
@@ -279,7 +281,8 @@ fc::PathSpec startFramePolyline() {
 void print(const char* label, const Result& r) {
   std::printf(
       "[ control  ] %-52s finished %-3s at %7.1f s  cross-track max %6.1f mm  RMS %6.1f mm\n",
-      label, r.finished ? "yes" : "NO", r.finish_time, r.max_ct * 1e3, r.rms_ct * 1e3);
+      label, r.finished ? "yes" : "NO", r.finish_time, units::metresToMm(r.max_ct),
+      units::metresToMm(r.rms_ct));
 }
 
 }  // namespace
@@ -312,7 +315,7 @@ TEST(PathControllersPlant, QuaternionEncodesTheHeading) {
 TEST(PathFollowing, FollowsRectangleAndCircleOnTheIdealPlant) {
   const fc::BinaryCalibration c = nominalCalibration();
   std::printf("[ control  ] nominal calibration: advance %.3f mm/period at %.4f rad\n",
-              c.advance_per_period * 1e3, c.advance_angle);
+              units::metresToMm(c.advance_per_period), c.advance_angle);
   struct Case {
     const char* name;
     fc::PathSpec spec;
@@ -463,7 +466,8 @@ TEST(PathFollowing, TurnsAroundToAGoalBehindWithoutChattering) {
       "%zu periods overall; finished at %.0f s, cross-track max %.1f mm once on the path, "
       "end %.1f mm from the path's end, heading %.2f rad off\n",
       left ? "left" : "right", turnaround, error[0], error[turnaround], reversals, unsaturated,
-      flips, duty.size(), r.finish_time, max_after * 1e3, (r.end - Vec2(-0.6, 0.0)).norm() * 1e3,
+      flips, duty.size(), r.finish_time, units::metresToMm(max_after),
+      units::metresToMm((r.end - Vec2(-0.6, 0.0)).norm()),
       fc::wrapAngle(r.end_heading + c.advance_angle - M_PI));
   EXPECT_EQ(reversals, 0);
   EXPECT_GT(max_after, 0.0);

@@ -14,9 +14,11 @@
 #include "flagella_control/calibration.h"
 #include "flagella_control/path.h"
 #include "flagella_control/switch_planner.h"
+#include "flagella_sim/core/units.h"
 #include "support/sign_response.h"
 
 namespace fc = flagella_control;
+namespace units = flagella::units;
 using fc::Path;
 using fc::Vec2;
 
@@ -307,14 +309,16 @@ void checkCornersOnModel(const Path& path, const fc::BinaryCalibration& c, const
     const fc::PathElement& e = path.elements()[k];
     const double d = distanceToLine(r.at_targets[k - 1].p, e.start, e.end);
     worst = std::max(worst, d);
-    EXPECT_LT(d, tolerance) << "side " << k << " starts " << d * 1e3 << " mm off its line";
+    EXPECT_LT(d, tolerance) << "side " << k << " starts " << units::metresToMm(d)
+                            << " mm off its line";
   }
   std::printf(
       "[ planner  ] %s: worst distance of a side's start to its line %.3f mm, "
       "end-to-end %.3f mm, duration %.1f s\n",
-      label, worst * 1e3,
-      (r.end.p - (path.closed() ? path.at(0).position : path.at(path.length()).position)).norm() *
-          1e3,
+      label, units::metresToMm(worst),
+      units::metresToMm(
+          (r.end.p - (path.closed() ? path.at(0).position : path.at(path.length()).position))
+              .norm()),
       s.duration);
   const Vec2 goal = path.closed() ? path.at(0).position : path.at(path.length()).position;
   EXPECT_LT((r.end.p - goal).norm(), 2 * tolerance) << "the run ends away from the path's end";
@@ -411,8 +415,9 @@ TEST(SwitchPlanner, DISABLED_CircleScheduleFlownOnTheModelStaysOnTheCircle) {
       std::printf(
           "[ planner  ] circle r = 0.2 %s: a planned period (%.3f s +, %.3f s -) advances "
           "%.2f mm at %.3f rad from its start heading; calibrated %.2f mm at %.3f rad\n",
-          ccw ? "ccw" : "cw", s.intervals[0].duration, s.intervals[1].duration, p.p.norm() * 1e3,
-          std::atan2(p.p.y(), p.p.x()), c.advance_per_period * 1e3, c.advance_angle);
+          ccw ? "ccw" : "cw", s.intervals[0].duration, s.intervals[1].duration,
+          units::metresToMm(p.p.norm()), std::atan2(p.p.y(), p.p.x()),
+          units::metresToMm(c.advance_per_period), c.advance_angle);
     }
     State st;
     st.h = fc::periodStartHeading(c, 0.0);
@@ -425,7 +430,7 @@ TEST(SwitchPlanner, DISABLED_CircleScheduleFlownOnTheModelStaysOnTheCircle) {
     std::printf(
         "[ planner  ] circle r = 0.2 %s flown open loop on the model: worst distance "
         "at a period start %.1f mm, end %.1f mm from the start\n",
-        ccw ? "ccw" : "cw", worst * 1e3, st.p.norm() * 1e3);
+        ccw ? "ccw" : "cw", units::metresToMm(worst), units::metresToMm(st.p.norm()));
     EXPECT_LT(worst, c.advance_per_period) << (ccw ? "ccw" : "cw");
     EXPECT_LT(st.p.norm(), c.advance_per_period) << (ccw ? "ccw" : "cw");
   }

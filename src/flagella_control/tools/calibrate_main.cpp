@@ -13,7 +13,10 @@
 
 #include "flagella_control/calibration_runner.h"
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/simulation/simulation_config.h"
+
+namespace units = flagella::units;
 
 namespace {
 
@@ -40,12 +43,13 @@ void prependComment(const std::string& path, const std::string& comment) {
 void printSign(const char* name, const flagella_control::SignResponse& r, double tail_length) {
   std::printf(
       "  %s: yaw rate %+.5f rad/s (%+.3f deg/s), circle radius %.1f mm = %.3f tail lengths\n", name,
-      r.yaw_rate, r.yaw_rate * 180.0 / M_PI, 1e3 * r.circle_radius, r.circle_radius / tail_length);
+      r.yaw_rate, units::radToDeg(r.yaw_rate), units::metresToMm(r.circle_radius),
+      r.circle_radius / tail_length);
   std::printf(
       "     path speed %.3f mm/s, axis-path angle %+.1f deg, body velocity "
       "[along %+.3f, left %+.3f] mm/s\n",
-      1e3 * r.speed, r.axis_path_angle * 180.0 / M_PI, 1e3 * r.body_velocity[0],
-      1e3 * r.body_velocity[1]);
+      units::metresToMm(r.speed), units::radToDeg(r.axis_path_angle),
+      units::metresToMm(r.body_velocity[0]), units::metresToMm(r.body_velocity[1]));
 }
 
 }  // namespace
@@ -87,7 +91,7 @@ int main(int argc, char** argv) {
     std::printf(
         "calibrating %s: omega = %.4f rad/s (%.2f rpm), T = %g s; constant sign: settle "
         "%g s + measure %g s; switching: %d + %d periods\n",
-        config_path.c_str(), omega, omega * 60.0 / (2.0 * M_PI), options.switch_period,
+        config_path.c_str(), omega, units::radPerSecToRpm(omega), options.switch_period,
         options.settle_time, options.measure_time, options.settle_periods, options.measure_periods);
     std::fflush(stdout);
     const auto start = std::chrono::steady_clock::now();
@@ -112,10 +116,11 @@ int main(int argc, char** argv) {
     std::printf(
         "  advance %.3f mm per period = %.4f mm/s, at %+.1f deg from the period-start "
         "heading\n",
-        1e3 * c.advance_per_period, 1e3 * c.advanceSpeed(), c.advance_angle * 180.0 / M_PI);
+        units::metresToMm(c.advance_per_period), units::metresToMm(c.advanceSpeed()),
+        units::radToDeg(c.advance_angle));
     std::printf("  heading drift %+.3f deg per period (a half period at +omega turns %+.2f deg)\n",
-                c.heading_drift_per_period * 180.0 / M_PI,
-                c.plus.yaw_rate * 0.5 * c.switch_period * 180.0 / M_PI);
+                units::radToDeg(c.heading_drift_per_period),
+                units::radToDeg(c.plus.yaw_rate * 0.5 * c.switch_period));
     std::printf("simulated %.0f s in %.1f s wall (%.1fx real time); wrote %s\n", simulated, wall,
                 simulated / wall, output.c_str());
     return 0;

@@ -15,6 +15,7 @@
 #include "flagella_control/path_controllers.h"
 #include "flagella_control/tracking_metrics.h"
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
 int main(int argc, char** argv) {
@@ -101,7 +102,8 @@ int main(int argc, char** argv) {
     std::printf(
         "cross-track error of the true head path: max %.1f mm (%.3f l), RMS %.1f mm "
         "(%.3f l), %ld samples\n",
-        1e3 * stats.max_abs, stats.max_abs / l, 1e3 * stats.rms(), stats.rms() / l, stats.samples);
+        flagella::units::metresToMm(stats.max_abs), stats.max_abs / l,
+        flagella::units::metresToMm(stats.rms()), stats.rms() / l, stats.samples);
     return report.halted ? 3 : finished ? 0 : 4;
   } catch (const flagella::ConfigError& e) {
     std::cerr << "configuration error: " << e.what() << "\n";

@@ -8,6 +8,7 @@
 
 #include "flagella_control/lcm_harness.h"
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
 int main(int argc, char** argv) {
@@ -38,8 +39,8 @@ int main(int argc, char** argv) {
     const flagella::SimulationConfig config =
         flagella::loadSimulationConfig(config_path, overrides);
     flagella::SimSession session(config, session_options);
-    flagella_control::PeriodicSwitchController controller(omega_rpm * 2.0 * M_PI / 60.0, positive,
-                                                          negative);
+    flagella_control::PeriodicSwitchController controller(
+        flagella::units::rpmToRadPerSec(omega_rpm), positive, negative);
     flagella_control::LcmHarness harness(session, controller, options);
     const flagella::RodSnapshot start = session.snapshot();
     const flagella_control::HarnessReport report = harness.run(duration);
@@ -52,8 +53,9 @@ int main(int argc, char** argv) {
     for (const auto& [channel, count] : report.received)
       std::printf("  received  %-28s %ld\n", channel.c_str(), count);
     const flagella::Vec3 moved = end.head_position - start.head_position;
-    std::printf("head moved (%.2f, %.2f, %.2f) mm; motor commands rejected: %ld\n", 1e3 * moved.x(),
-                1e3 * moved.y(), 1e3 * moved.z(), session.health().motor_rejected);
+    std::printf("head moved (%.2f, %.2f, %.2f) mm; motor commands rejected: %ld\n",
+                flagella::units::metresToMm(moved.x()), flagella::units::metresToMm(moved.y()),
+                flagella::units::metresToMm(moved.z()), session.health().motor_rejected);
     return report.halted ? 3 : 0;
   } catch (const flagella::ConfigError& e) {
     std::cerr << "configuration error: " << e.what() << "\n";

@@ -10,12 +10,14 @@
 #include <filesystem>
 #include <map>
 
+#include "flagella_sim/core/units.h"
+
 namespace flagella {
 namespace identify {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
+constexpr double kTwoPi = 2.0 * units::pi;  // [rad] per turn
 constexpr size_t kMinSamples = 3;
 
 /// "/ns/leaf" with a single leading slash and no trailing one in the namespace.

@@ -5,12 +5,12 @@
 #include <numeric>
 #include <random>
 
+#include "flagella_sim/core/units.h"
+
 namespace flagella {
 namespace identify {
 
 namespace {
-
-constexpr double kRpm = 2.0 * M_PI / 60.0;
 
 /// The times k dt in [0, duration], on a nanosecond lattice: no drift from summing dt, so a
 /// command step at a multiple of the spacing falls on the same sample in every grid.
@@ -27,7 +27,7 @@ double commandAt(const SeriesPlan& plan, double t) {
   double omega = plan.command_rpm.front().second;
   for (const auto& [start, rpm] : plan.command_rpm)
     if (t >= start) omega = rpm;
-  return omega * kRpm;
+  return units::rpmToRadPerSec(omega);
 }
 
 }  // namespace
@@ -48,7 +48,7 @@ SteadyStateTable generateTable(const Model& truth, const TablePlan& plan, std::u
   for (int n : plan.n_tails)
     for (double rpm : plan.omega_rpm) {
       SteadyStateRow row;
-      row.omega_T = rpm * kRpm;
+      row.omega_T = units::rpmToRadPerSec(rpm);
       row.overrides = {{"robot.n_tails", std::to_string(n)}};
       row.id = "n" + std::to_string(n) + "_" + std::to_string(static_cast<int>(rpm)) + "rpm";
       for (const auto& [name, sigma] : table.noise) row.measured[name] = 0.0;
@@ -58,7 +58,8 @@ SteadyStateTable generateTable(const Model& truth, const TablePlan& plan, std::u
   std::vector<int> order(table.rows.size());
   std::iota(order.begin(), order.end(), 0);
   std::shuffle(order.begin(), order.end(), rng);
-  const double spacing = plan.session_hours * 3600.0 / std::max<size_t>(1, table.rows.size());
+  const double spacing =
+      plan.session_hours * units::kSecondsPerHour / std::max<size_t>(1, table.rows.size());
   for (size_t k = 0; k < order.size(); ++k) table.rows[order[k]].time = k * spacing;
 
   // Exact model outputs through the same evaluator the identification uses (one table with

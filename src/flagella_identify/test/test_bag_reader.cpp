@@ -12,6 +12,7 @@
 #include "../../flagella_sim/test/support/temp_dir.h"
 #include "flagella_identify/bag_reader.h"
 #include "flagella_identify/data_io.h"
+#include "flagella_sim/core/units.h"
 
 namespace flagella::identify {
 namespace {
@@ -19,7 +20,6 @@ namespace {
 using flagella::testing::errorMessageOf;
 using flagella::testing::TempDir;
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kT0 = 100.0;  // first stamp [s]
 constexpr double kDt = 0.1;
 
@@ -31,8 +31,8 @@ constexpr double kDt = 0.1;
 
 // Sample i of the synthetic run.
 Vec3 positionOf(int i) { return Vec3(0.01 * i, 2e-3 + 1e-4 * i * i, -1e-3 * i); }
-double headAngleOf(int i) { return 0.5 + kPi * i; }        // half a turn per sample
-double tailAngleOf(int i) { return 1.0 - 0.5 * kPi * i; }  // a quarter turn back per sample
+double headAngleOf(int i) { return 0.5 + units::pi * i; }        // half a turn per sample
+double tailAngleOf(int i) { return 1.0 - 0.5 * units::pi * i; }  // a quarter turn back per sample
 double omegaOf(int i) { return 3.0 + i; }
 Eigen::Quaterniond orientationOf(int i) {
   return Eigen::Quaterniond(Eigen::AngleAxisd(0.2 * i, Vec3::UnitZ()));

@@ -6,14 +6,13 @@
 
 #include "../../flagella_sim/test/support/temp_dir.h"
 #include "flagella_identify/data_io.h"
+#include "flagella_sim/core/units.h"
 
 namespace flagella::identify {
 namespace {
 
 using flagella::testing::errorMessageOf;
 using flagella::testing::TempDir;
-
-constexpr double kPi = 3.14159265358979323846;
 
 /// The message thrown by readMeasuredData(path) (a DataError expected).
 std::string readError(const std::string& path) {
@@ -87,8 +86,8 @@ TEST(DataIo, SteadyStateTableIsConvertedToSi) {
   EXPECT_EQ(t.overrides, (std::vector<ConfigOverride>{{"robot.tail_edges", "10"},
                                                       {"medium.viscosity", "0.97"}}));
   EXPECT_DOUBLE_EQ(t.noise.at("v"), 3e-6);
-  EXPECT_DOUBLE_EQ(t.noise.at("omega_h"), 0.5 * 2 * kPi / 60);
-  EXPECT_DOUBLE_EQ(t.noise.at("omega_t"), 0.2 * 2 * kPi / 60);
+  EXPECT_DOUBLE_EQ(t.noise.at("omega_h"), units::rpmToRadPerSec(0.5));
+  EXPECT_DOUBLE_EQ(t.noise.at("omega_t"), units::rpmToRadPerSec(0.2));
   EXPECT_DOUBLE_EQ(t.noise.at("omega_yr"), 0.01);
   EXPECT_DOUBLE_EQ(t.noise.at("R_yr"), 2e-3);
   ASSERT_EQ(t.rows.size(), 2u);
@@ -96,10 +95,10 @@ TEST(DataIo, SteadyStateTableIsConvertedToSi) {
   EXPECT_EQ(a.line, 4);
   EXPECT_EQ(a.id, "a1");
   EXPECT_DOUBLE_EQ(a.time, 12.5);
-  EXPECT_NEAR(a.omega_T, 2 * kPi, 1e-12);  // 60 rpm = 1 turn per second
+  EXPECT_NEAR(a.omega_T, 2 * units::pi, 1e-12);  // 60 rpm = 1 turn per second
   EXPECT_NEAR(a.measured.at("v"), 1.5e-3, 1e-15);
-  EXPECT_NEAR(a.measured.at("omega_h"), kPi, 1e-12);  // 30 rpm = pi rad/s
-  EXPECT_NEAR(a.measured.at("omega_t"), -4 * kPi, 1e-12);
+  EXPECT_NEAR(a.measured.at("omega_h"), units::pi, 1e-12);  // 30 rpm = pi rad/s
+  EXPECT_NEAR(a.measured.at("omega_t"), -4 * units::pi, 1e-12);
   EXPECT_DOUBLE_EQ(a.measured.at("omega_yr"), 0.25);
   EXPECT_NEAR(a.measured.at("R_yr"), 0.25, 1e-15);
   EXPECT_EQ(a.overrides,
@@ -107,8 +106,8 @@ TEST(DataIo, SteadyStateTableIsConvertedToSi) {
                                          {"robot.tail_angles", "[0, 2.0944, 4.1888]"}}));
   const SteadyStateRow& b = t.rows[1];
   EXPECT_EQ(b.line, 6);
-  EXPECT_NEAR(b.omega_T, -kPi, 1e-12);
-  EXPECT_NEAR(b.measured.at("omega_t"), 0.2 * kPi, 1e-12);  // 6 rpm
+  EXPECT_NEAR(b.omega_T, -units::pi, 1e-12);
+  EXPECT_NEAR(b.measured.at("omega_t"), 0.2 * units::pi, 1e-12);  // 6 rpm
 }
 
 TEST(DataIo, SteadyStateDefaultsAndMissingValues) {
@@ -125,7 +124,7 @@ TEST(DataIo, SteadyStateDefaultsAndMissingValues) {
   EXPECT_TRUE(t.overrides.empty());
   ASSERT_EQ(t.rows.size(), 2u);
   EXPECT_TRUE(std::isnan(t.rows[0].measured.at("v")));
-  EXPECT_NEAR(t.rows[0].measured.at("omega_h"), 5 * 2 * kPi / 60, 1e-12);
+  EXPECT_NEAR(t.rows[0].measured.at("omega_h"), units::rpmToRadPerSec(5.0), 1e-12);
   EXPECT_TRUE(std::isnan(t.rows[0].time));
   EXPECT_TRUE(t.rows[0].overrides.empty());
   EXPECT_EQ(t.rows[0].id, "");
@@ -173,9 +172,9 @@ TEST(DataIo, TimeSeriesIsConvertedToSi) {
   EXPECT_EQ(s.head_turns, (std::vector<double>{0, 0.25, 0.5}));
   EXPECT_EQ(s.tail_turns, (std::vector<double>{0, -0.5, -1}));
   ASSERT_EQ(s.omega_cmd.size(), 3u);
-  EXPECT_NEAR(s.omega_cmd[0], 2 * kPi, 1e-12);
-  EXPECT_NEAR(s.omega_cmd[1], 4 * kPi, 1e-12);
-  EXPECT_NEAR(s.omega_cmd[2], -2 * kPi, 1e-12);
+  EXPECT_NEAR(s.omega_cmd[0], 2 * units::pi, 1e-12);
+  EXPECT_NEAR(s.omega_cmd[1], 4 * units::pi, 1e-12);
+  EXPECT_NEAR(s.omega_cmd[2], -2 * units::pi, 1e-12);
   EXPECT_DOUBLE_EQ(s.position_noise, 3e-4);
   EXPECT_DOUBLE_EQ(s.orientation_noise, 0.01);
   EXPECT_DOUBLE_EQ(s.turns_noise, 0.25);

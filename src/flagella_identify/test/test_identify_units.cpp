@@ -12,14 +12,13 @@
 #include "flagella_identify/discovery_cases.h"
 #include "flagella_identify/fit.h"
 #include "flagella_identify/model.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/effects/effect_registry.h"
 #include "support/discovery_check.h"
 
 namespace flagella {
 namespace identify {
 namespace {
-
-constexpr double kRpm = 2.0 * M_PI / 60.0;
 
 bool hasSignature(const Diagnosis& d, const std::string& kind, const std::string& output) {
   for (const Signature& s : d.signatures)
@@ -31,7 +30,7 @@ ResidualPoint tablePoint(const std::string& output, double omega_rpm, double dat
                          double session_time = NAN) {
   ResidualPoint p;
   p.output = output;
-  p.omega_T = omega_rpm * kRpm;
+  p.omega_T = units::rpmToRadPerSec(omega_rpm);
   p.data = data;
   p.model = model;
   p.sigma = 1.0;
@@ -63,7 +62,7 @@ TEST(Split, HeldOutRowsSpanTheSpeedRangeAndSeriesHoldOutTheirEnd) {
   SteadyStateTable t;
   for (double rpm : {90, 10, 50, 70, 30, 80, 20, 60, 40}) {
     SteadyStateRow r;
-    r.omega_T = rpm * kRpm;
+    r.omega_T = units::rpmToRadPerSec(rpm);
     t.rows.push_back(r);
   }
   data.tables.push_back(t);
@@ -73,7 +72,7 @@ TEST(Split, HeldOutRowsSpanTheSpeedRangeAndSeriesHoldOutTheirEnd) {
   const Split split = makeSplit(data);
   std::vector<double> held;
   for (size_t i = 0; i < t.rows.size(); ++i)
-    if (split.table_row_held_out[0][i]) held.push_back(t.rows[i].omega_T / kRpm);
+    if (split.table_row_held_out[0][i]) held.push_back(units::radPerSecToRpm(t.rows[i].omega_T));
   std::sort(held.begin(), held.end());
   EXPECT_EQ(held, (std::vector<double>{20, 50, 80}));  // one per third of the speed range
   EXPECT_NEAR(split.series_split_time[0], 2.0 + 0.6 * 10.0, 1e-12);

@@ -4,11 +4,11 @@
 #include <sstream>
 
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/core/units.h"
 
 namespace flagella_ros {
 
 namespace {
-constexpr double kRpmToRadPerSecond = 2.0 * M_PI / 60.0;
 constexpr double kMaxMotorRpm = 1e5;
 constexpr double kMaxTimeout = 1e6;  // [s]
 constexpr double kMaxNoise = 1e3;
@@ -52,9 +52,9 @@ std::vector<std::string> splitOverrides(const std::string& text) {
 
 flagella::SessionOptions sessionOptionsFromParams(const ros::NodeHandle& nh) {
   flagella::SessionOptions o;
-  o.max_motor_speed =
-      kRpmToRadPerSecond * rangedParam(nh, "max_motor_rpm", o.max_motor_speed / kRpmToRadPerSecond,
-                                       1e-6, kMaxMotorRpm, "rpm");
+  o.max_motor_speed = flagella::units::rpmToRadPerSec(
+      rangedParam(nh, "max_motor_rpm", flagella::units::radPerSecToRpm(o.max_motor_speed), 1e-6,
+                  kMaxMotorRpm, "rpm"));
   o.command_timeout = rangedParam(nh, "command_timeout", o.command_timeout, 0.0, kMaxTimeout,
                                   "s of simulated time (0: no failsafe)");
   nh.param<std::string>("initial_motor", o.initial_motor, o.initial_motor);

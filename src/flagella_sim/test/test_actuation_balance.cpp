@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "flagella_sim/actuation/motor_command.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/effects/constant_load.h"
 #include "flagella_sim/effects/medium.h"
 #include "flagella_sim/effects/stokes_head_drag.h"
@@ -33,7 +34,6 @@ constexpr double kViscosity = 6.828;    // mu [Pa s]
 constexpr double kCt = 2.420;           // C_1
 constexpr double kCr = 0.039;           // C_2
 constexpr double kMotorRpm = 100.0;
-constexpr double kRpmToRadPerSec = 2.0 * M_PI / 60.0;
 
 // 40 s at 100 rpm: the time series are steady from ~20 s on (head spin and speed constant to
 // 5-6 digits, checked on 120 s runs), so the steady window (last half) starts at 20 s.
@@ -58,7 +58,7 @@ constexpr double kRigidSpeedFraction = 0.01;
 // eta_p, a missing root half-cell, a wrong head torque prefactor) is off by >= 1.8 %.
 constexpr double kRigidSplitTolerance = 0.01;
 
-double motorOmega() { return kMotorRpm * kRpmToRadPerSec; }
+double motorOmega() { return units::rpmToRadPerSec(kMotorRpm); }
 
 // RFT coefficients of spec 2, log form ln(2L/r0) (Eq. 2.10/3.3).
 struct Rft {

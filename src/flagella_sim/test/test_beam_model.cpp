@@ -13,11 +13,11 @@
 #include <vector>
 
 #include "flagella_sim/beam/euler_bernoulli_beam.h"
+#include "flagella_sim/core/units.h"
 
 namespace flagella::beam {
 namespace {
 
-constexpr double kRpmToRadPerSec = 2.0 * M_PI / 60.0;
 constexpr double kClosedFormTolerance = 1e-6;       // numeric LB vs closed form (relative)
 constexpr double kProfileTolerance = 1e-9;          // RK4 is exact for the quartic LB profile
 constexpr double kBalanceTolerance = 1e-12;         // closed-form balances (rounding only)
@@ -29,7 +29,7 @@ constexpr int kReferenceNodes = 20000;              // trapezoid nodes of the re
 constexpr double kPicardTolerance = 1e-14;
 constexpr int kMaxPicardIterations = 500;
 
-double rpm(double value) { return value * kRpmToRadPerSec; }
+double rpm(double value) { return units::rpmToRadPerSec(value); }
 
 // Design 1 of spec 8.1 with the beam inputs of spec 6.
 BeamDesign design1() {

@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "flagella_sim/beam/euler_bernoulli_beam.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
@@ -45,7 +46,6 @@ namespace flagella {
 namespace {
 
 constexpr double kMotorRpm = 10.0;  // omega_T <= 10 rpm: w(L)/L ~ 2-3 %, slopes ~ 0.03
-constexpr double kRpmToRadPerSec = 2.0 * M_PI / 60.0;
 
 // ---- tolerances -----------------------------------------------------------------------------
 // Beam vs rod on the finest mesh (4x the config's edges): the agreement required by the task.
@@ -198,7 +198,7 @@ void checkDesign(const DesignCase& dc) {
   ASSERT_EQ(rods.size(), 3u);
   const RodResult &coarse = rods[0], &mid = rods[1], &fine = rods[2];
   const beam::BeamDesign& design = fine.design;
-  const double omega_T = kMotorRpm * kRpmToRadPerSec;
+  const double omega_T = units::rpmToRadPerSec(kMotorRpm);
   const beam::BeamSolution nlb =
       beam::solveBeamModel(design, omega_T, beam::BeamRegime::kNonlinear);
   const beam::BeamSolution lb = beam::solveBeamModel(design, omega_T, beam::BeamRegime::kLinear);

@@ -18,6 +18,7 @@
 
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/core/yaml_fields.h"
 #include "flagella_sim/effects/interface_lateral_force.h"
 #include "flagella_sim/simulation/simulation.h"
@@ -34,7 +35,6 @@ constexpr char kConfigDir[] = FLAGELLA_CONFIG_DIR;
 constexpr char kDesign1[] = "granular_design1.yaml";
 constexpr char kInterfaceRobot[] = "interface_robot.yaml";
 constexpr int kMinShippedConfigs = 4;
-constexpr double kRpmToRadPerSec = 2.0 * M_PI / 60.0;
 constexpr double kExactTol = 1e-12;
 // Defaults of the interface viscosity profile (simulation_config.cpp): h = 0.7 R, k = 20.
 constexpr double kDefaultOnsetOverRadius = 0.7;
@@ -131,7 +131,7 @@ TEST(ConfigBaseline, SmallConfigLoadsWithItsValues) {
   EXPECT_DOUBLE_EQ(c.geometry.tail_length, 0.1);
   EXPECT_EQ(c.geometry.tail_edges, 10);
   EXPECT_DOUBLE_EQ(c.medium.viscosity(), 2.0);
-  EXPECT_NEAR(c.motor.omega, 60.0 * kRpmToRadPerSec, kExactTol);
+  EXPECT_NEAR(c.motor.omega, units::rpmToRadPerSec(60.0), kExactTol);
   ASSERT_EQ(c.effects.size(), 2u);
   EXPECT_NO_THROW(Simulation{c});
 }
@@ -444,7 +444,7 @@ TEST(Overrides, ApplyToExistingAndNewFields) {
       path, {"robot.n_tails=3", "motor.omega_rpm=60", "medium.up=[0, 0, 2]",
              "solver.max_iterations=7", "simulation.duration=1.5", "robot.spoke_phase_deg=90"});
   EXPECT_EQ(c.geometry.n_tails, 3);
-  EXPECT_NEAR(c.motor.omega, 60.0 * kRpmToRadPerSec, kExactTol);
+  EXPECT_NEAR(c.motor.omega, units::rpmToRadPerSec(60.0), kExactTol);
   EXPECT_NEAR((c.medium.up - Vec3::UnitZ()).norm(), 0.0, kExactTol);  // normalised
   EXPECT_EQ(c.solver.max_iterations, 7);
   EXPECT_DOUBLE_EQ(c.duration, 1.5);

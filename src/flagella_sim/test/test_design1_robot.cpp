@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
@@ -18,7 +19,6 @@ namespace flagella {
 namespace {
 
 constexpr double kMotorRpm = 100.0;
-constexpr double kRpmToRadPerSec = 2.0 * M_PI / 60.0;
 // 40 s: on 120 s runs the head spin and the speed are constant to 5-6 digits from ~20 s on, for
 // n = 2 and n = 3, so the steady window is the last half (20 s .. 40 s).
 constexpr double kRunDuration = 40.0;
@@ -35,7 +35,7 @@ constexpr double kLateralDriftFraction = 0.01;
 // turns much more easily than the tails (spec 8.1); at least half is the required property.
 constexpr double kHeadSpinShare = 0.5;
 
-double motorOmega() { return kMotorRpm * kRpmToRadPerSec; }
+double motorOmega() { return units::rpmToRadPerSec(kMotorRpm); }
 
 std::unique_ptr<Simulation> runDesign1(int n_tails) {
   const std::vector<std::string> overrides = {

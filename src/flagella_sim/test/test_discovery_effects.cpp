@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "flagella_sim/actuation/motor_command.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/effects/com_offset.h"
 #include "flagella_sim/effects/constant_load.h"
 #include "flagella_sim/effects/granular_jamming.h"
@@ -313,7 +314,7 @@ TEST(ComOffset, HeadMassDefaultsToTheDisplacedMediumAndIsANamedParameter) {
 // ---- viscosity_drift ---------------------------------------------------------------------------
 
 double driftFactor(double rate_per_hour, double session_time, double t) {
-  return 1.0 + rate_per_hour * (session_time + t) / 3600.0;
+  return 1.0 + rate_per_hour * (session_time + t) / units::kSecondsPerHour;
 }
 
 TEST(ViscosityDrift, HeadDragAtTimeTIsTheNoDriftDragTimesTheFactor) {
@@ -399,7 +400,7 @@ TEST(ViscosityDrift, FactorDownToTheMinimumIsAnErrorNamingTheRate) {
 constexpr double kDesign1Cr = 0.039;
 constexpr double kDesign1Mu = 6.828;
 constexpr double kDesign1A = 0.02;
-constexpr double kMotorOmega = 100.0 * 2.0 * M_PI / 60.0;  // [rad/s]
+constexpr double kMotorOmega = units::rpmToRadPerSec(100.0);  // [rad/s]
 // Head drag torque per unit head spin, C_r 8 pi mu a^3 (spec 3.1).
 const double kHeadTorquePerSpin = kDesign1Cr * 8.0 * M_PI * kDesign1Mu * std::pow(kDesign1A, 3);
 

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
@@ -48,7 +49,7 @@ constexpr double kSummaryAgreement = 1e-3;
 constexpr double kKinematicTolerance = 0.02;
 // (a) The model has no buoyancy or vertical restoring force (spec 3.3), so the head axis pitch
 //     drifts slowly; yaw about the vertical is only meaningful while it stays near horizontal.
-constexpr double kMaxPitch = 3.0 * M_PI / 180.0;  // [rad]
+constexpr double kMaxPitch = units::degToRad(3.0);  // [rad]
 // (b) Mirror symmetry makes |yaw rate| and the radius exactly equal for +/-omega up to solver
 //     tolerances (measured ~1e-14); 2 % as in the spec's "equal radii".
 constexpr double kMirrorTolerance = 0.02;
@@ -67,7 +68,7 @@ constexpr double kSwingTolerance = 0.05;
 //     the advance per period (measured 1.2e-3).
 constexpr double kLineResidualTolerance = 0.01;
 // (c) Net displacement direction vs the period-averaged heading [rad] (measured 5e-4 rad).
-constexpr double kNetDirectionTolerance = 1.0 * M_PI / 180.0;
+constexpr double kNetDirectionTolerance = units::degToRad(1.0);
 // (c) Net speed vs the chord prediction built from two mirror-image circular arcs (see test).
 //     The arcs assume the constant-omega steady state from the start of each half period, while
 //     the tails need ~2 s (a few first-mode relaxation times, see kConstantSteadyFraction) to

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/rod/rod_network.h"
 #include "flagella_sim/runtime/rate_schedule.h"
 #include "flagella_sim/runtime/sim_session.h"
@@ -24,7 +25,6 @@ constexpr char kConfigDir[] = FLAGELLA_CONFIG_DIR;
 constexpr char kDesign1[] = "granular_design1.yaml";
 constexpr char kInterfaceRobot[] = "interface_robot.yaml";
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kRpmToRadPerSec = 2.0 * M_PI / 60.0;
 
 // What granular_design1.yaml says (checked against the loaded config below).
 constexpr double kDesign1Rpm = 100.0;
@@ -259,10 +259,10 @@ TEST(SimSession, ConfigMotorFollowsTheConfigScheduleUntilTheFirstCommand) {
   const SimulationConfig config = load(kDesign1);
   // The yaml's motor: constant 100 rpm with a 0.5 s linear soft start.
   ASSERT_EQ(config.motor.mode, "constant");
-  ASSERT_NEAR(config.motor.omega, kDesign1Rpm * kRpmToRadPerSec, kExactTol);
+  ASSERT_NEAR(config.motor.omega, units::rpmToRadPerSec(kDesign1Rpm), kExactTol);
   ASSERT_EQ(config.motor.ramp_time, kDesign1Ramp);
   ASSERT_EQ(config.dt, kDesign1Dt);
-  const double omega = kDesign1Rpm * kRpmToRadPerSec;
+  const double omega = units::rpmToRadPerSec(kDesign1Rpm);
   SimSession session(config, SessionOptions{});
   EXPECT_EQ(session.health().motor_applied, 0.0);
   // The step to t uses omega_T(t) = omega min(1, t / ramp) (implicit in the motor twist).

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "flagella_sim/actuation/motor_command.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/robots/multi_tail_robot.h"
 #include "flagella_sim/simulation/simulation.h"
@@ -25,7 +26,6 @@ namespace {
 constexpr char kConfigDir[] = FLAGELLA_CONFIG_DIR;
 constexpr char kDesign1[] = "granular_design1.yaml";
 constexpr char kInterfaceRobot[] = "interface_robot.yaml";
-constexpr double kRpmToRadPerSec = 2.0 * M_PI / 60.0;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kTimeTol = 1e-12;  // [s]
@@ -245,7 +245,7 @@ TEST(Subdivision, StepThatFailsWholeCompletesInHalves) {
   EXPECT_TRUE(allFinite(sim.state()));
   EXPECT_EQ(sim.sample().subdivided_steps, 1);
   // The motor has turned by omega dt in total.
-  EXPECT_NEAR(sim.state().motor_twist_offset, 1000.0 * kRpmToRadPerSec * kBigDt, 1e-9);
+  EXPECT_NEAR(sim.state().motor_twist_offset, units::rpmToRadPerSec(1000.0) * kBigDt, 1e-9);
   // The head moved, spins finitely.
   EXPECT_GT(std::abs(sim.sample().omega_h), 0.0);
   EXPECT_TRUE(std::isfinite(sim.sample().omega_h));

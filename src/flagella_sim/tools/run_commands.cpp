@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "flagella_sim/beam/euler_bernoulli_beam.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/outputs/output_writers.h"
 #include "flagella_sim/simulation/simulation.h"
@@ -20,8 +21,6 @@ namespace flagella::cli {
 
 namespace {
 
-constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);
-constexpr double kRpmToRadPerSec = 2.0 * M_PI / 60.0;
 constexpr double kProgressPeriodSeconds = 2.0;
 
 using Clock = std::chrono::steady_clock;
@@ -55,20 +54,21 @@ class ProgressPrinter {
 
 void printSummary(const SimulationConfig& c, const SummaryMetrics& m, std::ostream& out) {
   char buf[1024];
-  std::snprintf(buf, sizeof(buf),
-                "summary (%s, n = %d, omega_T = %.2f rpm, steady window %.1f-%.1f s)\n"
-                "  omega_h = %.4f rpm (%.5f rad/s)\n"
-                "  omega_t = %.4f rpm (%.5f rad/s)\n"
-                "  v       = %.5f mm/s (forward, along the initial head axis)\n"
-                "  yaw rate = %.5f rad/s, circle radius = %s\n"
-                "  efficiency = %s\n"
-                "  Newton iterations = %ld, subdivided steps = %ld\n",
-                c.source.c_str(), c.geometry.n_tails, c.motor.omega * kRadPerSecToRpm,
-                m.window_start, m.window_end, m.omega_h * kRadPerSecToRpm, m.omega_h,
-                m.omega_t * kRadPerSecToRpm, m.omega_t, m.speed * 1e3, m.yaw_rate,
-                m.circle_valid ? (std::to_string(m.circle_radius * 1e3) + " mm").c_str() : "n/a",
-                m.efficiency_valid ? std::to_string(m.efficiency).c_str() : "n/a",
-                m.newton_iterations, m.subdivided_steps);
+  std::snprintf(
+      buf, sizeof(buf),
+      "summary (%s, n = %d, omega_T = %.2f rpm, steady window %.1f-%.1f s)\n"
+      "  omega_h = %.4f rpm (%.5f rad/s)\n"
+      "  omega_t = %.4f rpm (%.5f rad/s)\n"
+      "  v       = %.5f mm/s (forward, along the initial head axis)\n"
+      "  yaw rate = %.5f rad/s, circle radius = %s\n"
+      "  efficiency = %s\n"
+      "  Newton iterations = %ld, subdivided steps = %ld\n",
+      c.source.c_str(), c.geometry.n_tails, units::radPerSecToRpm(c.motor.omega), m.window_start,
+      m.window_end, units::radPerSecToRpm(m.omega_h), m.omega_h, units::radPerSecToRpm(m.omega_t),
+      m.omega_t, units::metresToMm(m.speed), m.yaw_rate,
+      m.circle_valid ? (std::to_string(units::metresToMm(m.circle_radius)) + " mm").c_str() : "n/a",
+      m.efficiency_valid ? std::to_string(m.efficiency).c_str() : "n/a", m.newton_iterations,
+      m.subdivided_steps);
   out << buf;
 }
 
@@ -162,8 +162,9 @@ int sweepCommand(const SweepOptions& o) {
         std::fprintf(
             stderr,
             "[%zu/%zu] n = %d, omega_T = %g rpm: v = %.4f mm/s, omega_h = %.2f rpm (%.1f s)%s\n",
-            done, cases.size(), cases[i].n, cases[i].rpm, cases[i].result.summary.speed * 1e3,
-            cases[i].result.summary.omega_h * kRadPerSecToRpm, cases[i].result.wall,
+            done, cases.size(), cases[i].n, cases[i].rpm,
+            units::metresToMm(cases[i].result.summary.speed),
+            units::radPerSecToRpm(cases[i].result.summary.omega_h), cases[i].result.wall,
             cases[i].result.failed ? " SOLVER FAILURE" : "");
     }
   };
@@ -177,9 +178,9 @@ int sweepCommand(const SweepOptions& o) {
          "failure\n";
   for (const Case& c : cases) {
     const SummaryMetrics& m = c.result.summary;
-    out << c.n << "," << c.rpm << "," << m.omega_h * kRadPerSecToRpm << ","
-        << m.omega_t * kRadPerSecToRpm << "," << m.speed * 1e3 << "," << m.yaw_rate << ","
-        << (m.efficiency_valid ? std::to_string(m.efficiency) : "") << ","
+    out << c.n << "," << c.rpm << "," << units::radPerSecToRpm(m.omega_h) << ","
+        << units::radPerSecToRpm(m.omega_t) << "," << units::metresToMm(m.speed) << ","
+        << m.yaw_rate << "," << (m.efficiency_valid ? std::to_string(m.efficiency) : "") << ","
         << (c.result.failed ? 1 : 0) << "\n";
   }
   out.close();
@@ -228,14 +229,14 @@ int beamCommand(const BeamOptions& o) {
   if (o.regime == "NLB-no-head" || o.regime == "all")
     regimes.push_back(beam::BeamRegime::kNonlinearWithoutHead);
   std::printf("beam model (spec 6), %s, n = %d, omega_T = %.3f rpm\n", o.config.c_str(), d.n_tails,
-              omega * kRadPerSecToRpm);
+              units::radPerSecToRpm(omega));
   std::printf("%-14s %12s %12s %14s %12s %14s\n", "model", "omega_h rpm", "omega_t rpm", "v mm/s",
               "w(L)/L", "F_p/tail N");
   for (beam::BeamRegime regime : regimes) {
     const beam::BeamSolution s = beam::solveBeamModel(d, omega, regime);
     std::printf("%-14s %12.5f %12.5f %14.6g %12.5f %14.6g%s\n", beam::toString(regime).c_str(),
-                s.omega_h * kRadPerSecToRpm, s.omega_t * kRadPerSecToRpm, s.speed * 1e3,
-                s.relative_tip_deflection, s.propulsive_force,
+                units::radPerSecToRpm(s.omega_h), units::radPerSecToRpm(s.omega_t),
+                units::metresToMm(s.speed), s.relative_tip_deflection, s.propulsive_force,
                 s.converged ? "" : "  (not converged)");
   }
   if (o.compare_rod) {
@@ -245,8 +246,8 @@ int beamCommand(const BeamOptions& o) {
     const double propulsive =
         d.C_t * 6.0 * M_PI * d.viscosity * d.head_radius * m.speed / d.n_tails;
     std::printf("%-14s %12.5f %12.5f %14.6g %12s %14.6g\n", "rod (DER)",
-                m.omega_h * kRadPerSecToRpm, m.omega_t * kRadPerSecToRpm, m.speed * 1e3, "-",
-                propulsive);
+                units::radPerSecToRpm(m.omega_h), units::radPerSecToRpm(m.omega_t),
+                units::metresToMm(m.speed), "-", propulsive);
     if (r.failed) return 3;
   }
   return 0;

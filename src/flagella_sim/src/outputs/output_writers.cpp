@@ -6,11 +6,11 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "flagella_sim/core/units.h"
+
 namespace flagella {
 
 namespace {
-constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);
-
 std::ofstream openOrThrow(const std::string& path) {
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write " + path);
@@ -56,23 +56,23 @@ std::string summaryJson(const SimulationConfig& c, const SummaryMetrics& m, doub
   j["dt_s"] = c.dt;
   j["duration_s"] = m.window_end;
   j["steady_window_s"] = {m.window_start, m.window_end};
-  j["omega_T_rpm"] = c.motor.omega * kRadPerSecToRpm;
+  j["omega_T_rpm"] = units::radPerSecToRpm(c.motor.omega);
   j["omega_T_mean_abs_rad_s"] = m.omega_T_mean;
   j["omega_motor_mean_abs_rad_s"] = m.omega_motor_mean;
   j["omega_h_rad_s"] = m.omega_h;
   j["omega_t_rad_s"] = m.omega_t;
-  j["omega_h_rpm"] = m.omega_h * kRadPerSecToRpm;
-  j["omega_t_rpm"] = m.omega_t * kRadPerSecToRpm;
+  j["omega_h_rpm"] = units::radPerSecToRpm(m.omega_h);
+  j["omega_t_rpm"] = units::radPerSecToRpm(m.omega_t);
   j["omega_h_signed_rad_s"] = m.omega_h_signed;
   j["omega_t_signed_rad_s"] = m.omega_t_signed;
   j["speed_m_s"] = m.speed;
-  j["speed_mm_s"] = m.speed * 1e3;
+  j["speed_mm_s"] = units::metresToMm(m.speed);
   j["net_speed_m_s"] = m.net_speed;
   j["path_speed_m_s"] = m.path_speed;
   j["yaw_rate_rad_s"] = m.yaw_rate;
   j["circle_radius_m"] =
       m.circle_valid ? nlohmann::ordered_json(m.circle_radius) : nlohmann::ordered_json(nullptr);
-  j["axis_path_angle_deg"] = m.axis_path_angle * 180.0 / M_PI;
+  j["axis_path_angle_deg"] = units::radToDeg(m.axis_path_angle);
   j["efficiency"] =
       m.efficiency_valid ? nlohmann::ordered_json(m.efficiency) : nlohmann::ordered_json(nullptr);
   j["newton_iterations"] = m.newton_iterations;
