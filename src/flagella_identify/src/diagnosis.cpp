@@ -6,14 +6,13 @@
 #include <cstdio>
 #include <map>
 
+#include "flagella_sim/core/units.h"
 #include "text_format.h"
 
 namespace flagella {
 namespace identify {
 
 namespace {
-
-constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);
 
 double mean(const std::vector<double>& v) {
   double s = 0.0;
@@ -104,7 +103,7 @@ std::pair<double, double> dominantPeriod(const std::vector<double>& t, std::vect
 
 std::pair<std::string, double> displayUnit(const std::string& output) {
   if (output == "v") return {"mm/s", 1e3};
-  if (output == "omega_h" || output == "omega_t") return {"rpm", kRadPerSecToRpm};
+  if (output == "omega_h" || output == "omega_t") return {"rpm", units::kRpmPerRadPerSec};
   if (output == "omega_yr") return {"rad/s", 1.0};
   if (output == "R_yr" || output == "x" || output == "y" || output == "z") return {"mm", 1e3};
   if (output.rfind("axis_", 0) == 0) return {"", 1.0};
@@ -204,7 +203,8 @@ void diagnoseThreshold(const std::string& name, const std::vector<const Residual
          formatted("%.0f experiments show no " + name +
                        " at |omega_T| <= %.0f rpm where the model predicts motion; it "
                        "resumes from %.0f rpm",
-                   still, max_still * kRadPerSecToRpm, min_moving * kRadPerSecToRpm)});
+                   still, max_still * units::kRpmPerRadPerSec,
+                   min_moving * units::kRpmPerRadPerSec)});
 }
 
 /// saturation (tables): the error grows with the motor speed.
@@ -342,7 +342,7 @@ std::vector<GroupStats> diagnoseWhere(const Evaluation& evaluation) {
     if (p->from_series)
       part[std::min(2, static_cast<int>(3.0 * p->run_time / (t_max + 1e-9)))].push_back(p);
   }
-  const double rpm = kRadPerSecToRpm;
+  const double rpm = units::kRpmPerRadPerSec;
   where.push_back(group(formatted("|omega_T| < %.0f rpm", lo * rpm), g[0]));
   where.push_back(group(formatted("|omega_T| %.0f-%.0f rpm", lo * rpm, hi * rpm), g[1]));
   where.push_back(group(formatted("|omega_T| >= %.0f rpm", hi * rpm), g[2]));

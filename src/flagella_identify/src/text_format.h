@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "flagella_sim/core/text_lists.h"
+
 namespace flagella {
 namespace identify {
 
@@ -17,12 +19,8 @@ inline std::string formatted(const std::string& format, double a, double b = 0.0
   return buffer;
 }
 
-/// The names separated by `separator` ("a, b" or "a + b").
-inline std::string joined(const std::vector<std::string>& names, const std::string& separator) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : separator) + n;
-  return out;
-}
+/// The names separated by a separator ("a, b" or "a + b").
+using flagella::joined;
 
 }  // namespace identify
 }  // namespace flagella

@@ -273,16 +273,13 @@ int effectsCommand(bool markdown) {
   for (const EffectDescriptor* d : effectRegistry()) {
     std::printf("%s: %s\n", d->name.c_str(), d->description.c_str());
     for (const EffectOption& o : d->options) {
-      std::string choices = o.isFlag() ? "true, false" : "";
-      for (const std::string& a : o.allowed) choices += (choices.empty() ? "" : ", ") + a;
-      std::printf("  option    %-22s one of: %s (default %s)\n", o.name.c_str(), choices.c_str(),
-                  o.fallback.c_str());
+      std::printf("  option    %-22s one of: %s (default %s)\n", o.name.c_str(),
+                  o.choiceList().c_str(), o.fallback.c_str());
     }
     for (const ParameterSpec& p : d->parameters) {
       const std::string rule = d->defaultRule(p.name);
       std::printf("  parameter %-22s [%g, %g] %s, default %s: %s\n", p.name.c_str(), p.min, p.max,
-                  p.unit.c_str(),
-                  rule.empty() ? std::to_string(p.value).c_str() : rule.c_str(),
+                  p.unit.c_str(), rule.empty() ? std::to_string(p.value).c_str() : rule.c_str(),
                   p.description.c_str());
     }
     if (d->discovery)

@@ -11,13 +11,14 @@
 
 #include "flagella_identify/data_error.h"
 #include "flagella_identify/measured_data.h"
+#include "flagella_sim/core/units.h"
 
 namespace flagella {
 namespace identify {
 
 /// Unit factors from the file units to SI.
-constexpr double kRadPerSecPerRpm = 2.0 * 3.14159265358979323846 / 60.0;
-constexpr double kMetresPerMm = 1e-3;
+using units::kMetresPerMm;
+using units::kRadPerSecPerRpm;
 
 /// Everything read from one or more metadata files.
 struct MeasuredData {

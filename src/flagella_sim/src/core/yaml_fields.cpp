@@ -3,21 +3,11 @@
 #include <cmath>
 #include <sstream>
 
+#include "flagella_sim/core/text_lists.h"
+
 namespace flagella {
 
 namespace {
-std::string joinNames(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
-
-std::string formatNumber(double x) {
-  std::ostringstream out;
-  out << x;
-  return out.str();
-}
-
 std::string where(const YAML::Node& node) {
   const YAML::Mark m = node.Mark();
   if (m.line < 0) return "";
@@ -88,12 +78,12 @@ std::string FieldReader::choice(const std::string& key, const std::string& fallb
   const YAML::Node v = get(key);
   if (!v || v.IsNull()) return fallback;
   if (!v.IsScalar())
-    throw ConfigError(field(key) + " must be one of: " + joinNames(allowed) + where(v));
+    throw ConfigError(field(key) + " must be one of: " + joined(allowed) + where(v));
   const std::string value = v.as<std::string>();
   for (const std::string& a : allowed)
     if (a == value) return value;
-  throw ConfigError(field(key) + " must be one of: " + joinNames(allowed) + "; got '" + value +
-                    "'" + where(v));
+  throw ConfigError(field(key) + " must be one of: " + joined(allowed) + "; got '" + value + "'" +
+                    where(v));
 }
 
 Vec3 FieldReader::vector3(const std::string& key, const Vec3& fallback) {
@@ -151,7 +141,7 @@ void FieldReader::rejectUnknown() const {
     if (!used_.count(key)) {
       std::vector<std::string> allowed(used_.begin(), used_.end());
       throw ConfigError("unknown field '" + field(key) + "'" + where(kv.first) +
-                        " (allowed: " + joinNames(allowed) + ")");
+                        " (allowed: " + joined(allowed) + ")");
     }
   }
 }

@@ -2,9 +2,11 @@
 
 #include <sstream>
 
+#include "flagella_sim/core/text_lists.h"
+
 // The descriptor functions, declared from the list itself so that an effect is one line there.
-#define FLAGELLA_EFFECT(descriptor) \
-  namespace flagella {              \
+#define FLAGELLA_EFFECT(descriptor)     \
+  namespace flagella {                  \
   const EffectDescriptor& descriptor(); \
   }
 #include "effect_list.def"
@@ -33,11 +35,11 @@ std::vector<std::string> registeredEffectNames() {
   return names;
 }
 
+std::string registeredEffectList() { return joined(registeredEffectNames()); }
+
 const EffectDescriptor& effectDescriptor(const std::string& name) {
   if (const EffectDescriptor* d = findEffectDescriptor(name)) return *d;
-  std::string list;
-  for (const std::string& k : registeredEffectNames()) list += (list.empty() ? "" : ", ") + k;
-  throw ConfigError("unknown effect '" + name + "' (known: " + list + ")");
+  throw ConfigError("unknown effect '" + name + "' (known: " + registeredEffectList() + ")");
 }
 
 EffectPtr makeEffect(const EffectSpec& spec, const Medium& medium, const RobotDimensions& robot) {
@@ -50,18 +52,10 @@ EffectPtr makeEffect(const EffectSpec& spec, const Medium& medium, const RobotDi
 
 namespace {
 
-std::string formatNumber(double x) {
-  std::ostringstream out;
-  out << x;
-  return out.str();
-}
-
 std::string optionCell(const EffectOption& o) {
   std::string text = "`" + o.name + "`: ";
   if (o.isFlag()) return text + "true/false (default " + o.fallback + "); " + o.description;
-  std::string choices;
-  for (const std::string& a : o.allowed) choices += (choices.empty() ? "" : ", ") + a;
-  return text + choices + " (default " + o.fallback + "); " + o.description;
+  return text + o.choiceList() + " (default " + o.fallback + "); " + o.description;
 }
 
 std::string parameterCell(const EffectDescriptor& d, const ParameterSpec& p) {
@@ -95,8 +89,9 @@ std::string effectTableMarkdown() {
       options += (options.empty() ? "" : "<br>") + optionCell(o);
     for (const ParameterSpec& p : d->parameters)
       parameters += (parameters.empty() ? "" : "<br>") + parameterCell(*d, p);
-    out << "| `" << d->name << "` | " << d->description << " | " << (options.empty() ? "-" : options)
-        << " | " << parameters << " | " << discoveryCell(*d) << " |\n";
+    out << "| `" << d->name << "` | " << d->description << " | "
+        << (options.empty() ? "-" : options) << " | " << parameters << " | " << discoveryCell(*d)
+        << " |\n";
   }
   return out.str();
 }

@@ -3,11 +3,9 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace flagella {
+#include "flagella_sim/core/units.h"
 
-namespace {
-constexpr double kSecondsPerHour = 3600.0;
-}
+namespace flagella {
 
 ViscosityDrift::ViscosityDrift() : Effect(kName, viscosityDriftEffect().parameters) {
   rate_ = parameterIndex("rate");
@@ -21,9 +19,10 @@ const EffectDescriptor& viscosityDriftEffect() {
     e.description = "slow drift of the bath viscosity with temperature over a session";
     // |beta| <= 2/h: the range discovery fits; the run's own check (mu/mu0 > kMinFactor over the
     // session) rejects a drift that would make the viscosity vanish.
-    e.parameters = {{"rate", 0.0, -2.0, 2.0, "1/h", "relative drift rate beta of the bath viscosity"},
-                    {"session_time", 0.0, 0.0, 1e6, "s",
-                     "time t_s in the experimental session at which the run starts"}};
+    e.parameters = {
+        {"rate", 0.0, -2.0, 2.0, "1/h", "relative drift rate beta of the bath viscosity"},
+        {"session_time", 0.0, 0.0, 1e6, "s",
+         "time t_s in the experimental session at which the run starts"}};
     e.make = [](const EffectBuildContext&) { return std::make_unique<ViscosityDrift>(); };
     DiscoveryHints h;
     h.title = "slow viscosity drift with temperature";
@@ -44,7 +43,8 @@ void ViscosityDrift::addForce(const EffectContext& /*ctx*/, VecX& /*force*/,
 
 double ViscosityDrift::viscosityFactor(double time) const {
   const double beta = params_[rate_], t_s = params_[session_time_];
-  const double factor = 1.0 + beta * (t_s + time) / kSecondsPerHour;  // mu/mu0 = 1 + beta t/3600
+  const double factor =
+      1.0 + beta * (t_s + time) / units::kSecondsPerHour;  // mu/mu0 = 1 + beta t/3600
   if (!(factor > kMinFactor)) {
     std::ostringstream msg;
     msg << "effects.viscosity_drift.rate = " << beta << " 1/h gives mu/mu0 = " << factor

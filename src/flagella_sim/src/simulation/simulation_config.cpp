@@ -4,6 +4,7 @@
 #include <fstream>
 #include <limits>
 
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/core/yaml_fields.h"
 #include "flagella_sim/effects/effect_registry.h"
 
@@ -11,7 +12,6 @@ namespace flagella {
 
 namespace {
 
-constexpr double kRpmToRadPerSec = 2.0 * M_PI / 60.0;
 constexpr double kMaxMotorRpm = 1e4;
 
 void parseRobot(FieldReader r, SimulationConfig& c) {
@@ -37,7 +37,7 @@ void parseRobot(FieldReader r, SimulationConfig& c) {
   c.head_length = r.number("head_length", 2.0 * c.head_radius, 1e-4, 2.0, "m");
   g.head_edge_length = r.number("head_edge_length", c.head_radius, 1e-4, 1.0, "m");
   g.disc_radius = r.number("disc_radius", 0.02, 1e-4, 1.0, "m");
-  g.spoke_phase = r.number("spoke_phase_deg", 0.0, -360.0, 360.0, "deg") * M_PI / 180.0;
+  g.spoke_phase = units::degToRad(r.number("spoke_phase_deg", 0.0, -360.0, 360.0, "deg"));
   g.rigid_factor = r.number("rigid_factor", 1e3, 1.0, 1e6);
   g.tail_length_scale = r.numberList("tail_length_scale", 0.1, 10.0);
   g.tail_stiffness_scale = r.numberList("tail_stiffness_scale", 1e-3, 1e3);
@@ -90,11 +90,9 @@ EffectSpec parseEffect(FieldReader r, const EffectDescriptor& d) {
 void parseEffects(FieldReader r, SimulationConfig& c) {
   for (const std::string& name : r.keys()) {
     const EffectDescriptor* d = findEffectDescriptor(name);
-    if (!d) {
-      std::string list;
-      for (const std::string& k : registeredEffectNames()) list += (list.empty() ? "" : ", ") + k;
-      throw ConfigError("unknown effect '" + r.field(name) + "' (known: " + list + ")");
-    }
+    if (!d)
+      throw ConfigError("unknown effect '" + r.field(name) + "' (known: " + registeredEffectList() +
+                        ")");
     c.effects.push_back(parseEffect(r.child(name), *d));
   }
 }
@@ -102,7 +100,8 @@ void parseEffects(FieldReader r, SimulationConfig& c) {
 void parseMotor(FieldReader r, SimulationConfig& c) {
   MotorSpec& m = c.motor;
   m.mode = r.choice("mode", "constant", {"constant", "binary"});
-  m.omega = r.number("omega_rpm", 0.0, -kMaxMotorRpm, kMaxMotorRpm, "rpm") * kRpmToRadPerSec;
+  m.omega =
+      r.number("omega_rpm", 0.0, -kMaxMotorRpm, kMaxMotorRpm, "rpm") * units::kRadPerSecPerRpm;
   m.ramp_time = r.number("ramp_time", 0.0, 0.0, 1e4, "s");
   if (m.mode == "binary") {
     m.positive_duration = r.number("positive_duration", 1.0, 1e-6, 1e6, "s");

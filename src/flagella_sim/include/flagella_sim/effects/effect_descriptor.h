@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/core/text_lists.h"
 #include "flagella_sim/effects/effect.h"
 #include "flagella_sim/effects/medium.h"
 
@@ -19,10 +20,12 @@ namespace flagella {
 /// A structural option: chosen once in the config, never fitted ("log_form", "mode").
 struct EffectOption {
   std::string name;
-  std::string fallback;               ///< default value ("true"/"false" for a flag)
-  std::vector<std::string> allowed;   ///< the choices; empty for a flag
+  std::string fallback;              ///< default value ("true"/"false" for a flag)
+  std::vector<std::string> allowed;  ///< the choices; empty for a flag
   std::string description;
   bool isFlag() const { return allowed.empty(); }
+  /// The values a config may give: "true, false" for a flag, else the choices.
+  std::string choiceList() const { return isFlag() ? "true, false" : joined(allowed); }
 };
 
 /// The settings of one effect as a config gives them.
@@ -64,8 +67,8 @@ enum Observable : unsigned {
 
 /// One variable a discovery fit changes: an effect parameter, or its reciprocal.
 struct FittableParameter {
-  std::string variable;   ///< name in fits and reports ("stall_torque", "inverse_stall_torque")
-  std::string parameter;  ///< the effect parameter it sets
+  std::string variable;     ///< name in fits and reports ("stall_torque", "inverse_stall_torque")
+  std::string parameter;    ///< the effect parameter it sets
   bool reciprocal = false;  ///< parameter = 1 / variable
   std::string unit;         ///< of the variable
   double lower = 0.0, upper = 0.0;  ///< fit range of the variable (inside the parameter's range)
@@ -91,7 +94,8 @@ struct DiscoveryHints {
   std::string session_time_parameter;
   /// Strengths the hidden-effect test data draw, in this order.
   std::vector<TypicalStrength> typical;
-  bool steady_table_data = true;  ///< its hidden-effect case is a steady-state table (else a series)
+  bool steady_table_data =
+      true;  ///< its hidden-effect case is a steady-state table (else a series)
 };
 
 struct EffectDescriptor {

@@ -17,6 +17,8 @@ const EffectDescriptor* findEffectDescriptor(const std::string& name);
 const EffectDescriptor& effectDescriptor(const std::string& name);
 /// The registered names, in order.
 std::vector<std::string> registeredEffectNames();
+/// The registered names joined with ", " (for error messages).
+std::string registeredEffectList();
 
 /// Builds the effect `spec` names and sets its parameters; throws ConfigError naming the field
 /// ("effects.<name>.<parameter>") and its range for a value out of range or an unknown name.

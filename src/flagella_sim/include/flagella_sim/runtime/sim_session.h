@@ -8,6 +8,7 @@
 #include <string>
 
 #include "flagella_sim/actuation/motor_command.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/runtime/camera_model.h"
 #include "flagella_sim/runtime/command_gate.h"
 #include "flagella_sim/runtime/imu_model.h"
@@ -17,7 +18,7 @@
 namespace flagella {
 
 struct SessionOptions {
-  double max_motor_speed = 200.0 * 2.0 * 3.14159265358979323846 / 60.0;  ///< |omega_T| [rad/s]
+  double max_motor_speed = units::rpmToRadPerSec(200.0);  ///< |omega_T| [rad/s]
   double command_timeout = 0.5;  ///< failsafe: motor stops this long after the last command [s]
   /// Before the first command: "config" follows the config's motor schedule, "stopped" holds 0.
   std::string initial_motor = "config";
