@@ -16,6 +16,7 @@
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/outputs/output_writers.h"
 #include "flagella_sim/simulation/simulation.h"
+#include "summary_json.h"
 
 namespace flagella::cli {
 
@@ -281,8 +282,7 @@ int effectsCommand(bool markdown) {
     for (const ParameterSpec& p : d->parameters) {
       const std::string rule = d->defaultRule(p.name);
       std::printf("  parameter %-22s [%g, %g] %s, default %s: %s\n", p.name.c_str(), p.min, p.max,
-                  p.unit.c_str(),
-                  rule.empty() ? std::to_string(p.value).c_str() : rule.c_str(),
+                  p.unit.c_str(), rule.empty() ? std::to_string(p.value).c_str() : rule.c_str(),
                   p.description.c_str());
     }
     if (d->discovery)
