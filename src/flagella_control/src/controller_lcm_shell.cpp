@@ -3,7 +3,7 @@
 #include <flagella_lcm/motor_command_t.hpp>
 #include <flagella_lcm/slider_command_t.hpp>
 
-namespace flagella_control {
+namespace flagella::control {
 
 ControllerLcmShell::ControllerLcmShell(lcm::LCM& lcm, ControllerCore& controller,
                                        const std::string& channel_prefix)
@@ -56,4 +56,4 @@ void ControllerLcmShell::onImu(const lcm::ReceiveBuffer*, const std::string&,
   }
 }
 
-}  // namespace flagella_control
+}  // namespace flagella::control

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <stdexcept>
 
-namespace flagella_control {
+namespace flagella::control {
 
 LcmHarness::LcmHarness(flagella::SimSession& session, ControllerCore& controller,
                        HarnessOptions options)
@@ -50,4 +50,4 @@ HarnessReport LcmHarness::run(double duration, const std::function<void()>& afte
   return report;
 }
 
-}  // namespace flagella_control
+}  // namespace flagella::control

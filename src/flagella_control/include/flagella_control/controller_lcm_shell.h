@@ -11,7 +11,7 @@
 #include "flagella_control/controller_core.h"
 #include "flagella_sim/lcm_io/lcm_messages.h"
 
-namespace flagella_control {
+namespace flagella::control {
 
 class ControllerLcmShell {
  public:
@@ -36,4 +36,4 @@ class ControllerLcmShell {
   long imu_received_ = 0, commands_published_ = 0, camera_received_ = 0;
 };
 
-}  // namespace flagella_control
+}  // namespace flagella::control

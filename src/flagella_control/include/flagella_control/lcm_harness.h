@@ -17,9 +17,7 @@
 #include "flagella_sim/lcm_io/sim_lcm_shell.h"
 #include "flagella_sim/runtime/sim_session.h"
 
-namespace flagella_control {
-
-using flagella::LcmChannels;
+namespace flagella::control {
 
 /// The simulator shell's options (channel prefix, state rate, frames) plus the LCM provider.
 struct HarnessOptions : flagella::SimLcmOptions {
@@ -57,4 +55,4 @@ class LcmHarness {
   ControllerLcmShell controller_shell_;
 };
 
-}  // namespace flagella_control
+}  // namespace flagella::control
