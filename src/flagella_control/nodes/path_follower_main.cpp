@@ -8,7 +8,7 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "flagella_path_follower");
   ros::NodeHandle nh, pnh("~");
   try {
-    flagella_control_ros::PathFollowerNode node(nh, pnh);
+    flagella::control::node::PathFollowerNode node(nh, pnh);
     ros::spin();
   } catch (const std::exception& e) {
     ROS_FATAL("flagella_path_follower: %s", e.what());

@@ -6,10 +6,10 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace flagella_control_ros {
+namespace flagella::control::node {
 
-using flagella_control::ControllerMode;
-using flagella_control::ControllerOutputs;
+using flagella::control::ControllerMode;
+using flagella::control::ControllerOutputs;
 
 namespace {
 
@@ -41,7 +41,7 @@ PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   world_frame_ = param<std::string>(pnh, "world_frame", "world");
   const std::string calibration_file = param<std::string>(pnh, "calibration", "");
   if (calibration_file.empty()) throw std::invalid_argument("~calibration (a YAML file) is required");
-  calibration_ = flagella_control::loadCalibration(calibration_file);
+  calibration_ = flagella::control::loadCalibration(calibration_file);
   gains_.lookahead = param(pnh, "lookahead", gains_.lookahead);
   gains_.cross_track_integral = param(pnh, "cross_track_integral", gains_.cross_track_integral);
   gains_.heading_gain = param(pnh, "heading_gain", gains_.heading_gain);
@@ -66,7 +66,7 @@ PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   reference_pub_ = nh.advertise<nav_msgs::Path>("reference_path", 1, /*latch=*/true);
   const std::string path_file = param<std::string>(pnh, "path", "");
   if (!path_file.empty()) {
-    build(flagella_control::loadPathSpec(path_file));
+    build(flagella::control::loadPathSpec(path_file));
   } else {
     path_sub_ = nh.subscribe("path", 1, &PathFollowerNode::onPath, this);
     ROS_INFO("flagella_path_follower: no ~path file; waiting for a nav_msgs/Path on %s",
@@ -76,27 +76,28 @@ PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   fix_sub_ = nh.subscribe("camera_fix", kQueue, &PathFollowerNode::onCameraFix, this);
 }
 
-void PathFollowerNode::build(flagella_control::PathSpec spec) {
+void PathFollowerNode::build(flagella::control::PathSpec spec) {
   ROS_INFO("flagella_path_follower: %s, %s", mode_.c_str(), spec.description.c_str());
   if (mode_ == "open_loop")
-    controller_ = std::make_unique<flagella_control::ScheduleController>(std::move(spec), calibration_);
+    controller_ =
+        std::make_unique<flagella::control::ScheduleController>(std::move(spec), calibration_);
   else
-    controller_ = std::make_unique<flagella_control::PathFollowingController>(std::move(spec),
-                                                                              calibration_, gains_);
+    controller_ = std::make_unique<flagella::control::PathFollowingController>(
+        std::move(spec), calibration_, gains_);
   reference_published_ = false;
 }
 
 void PathFollowerNode::onPath(const nav_msgs::Path& msg) {
   // A nav_msgs/Path is a polyline in the world frame (its poses' positions; z is ignored).
-  std::vector<flagella_control::Vec2> points;
+  std::vector<flagella::control::Vec2> points;
   for (const auto& pose : msg.poses) {
-    const flagella_control::Vec2 p(pose.pose.position.x, pose.pose.position.y);
+    const flagella::control::Vec2 p(pose.pose.position.x, pose.pose.position.y);
     if (points.empty() || (p - points.back()).norm() > 1e-9) points.push_back(p);
   }
   try {
-    flagella_control::PathSpec spec;
-    spec.path = flagella_control::Path::polyline(points, false);
-    spec.frame = flagella_control::PathFrame::World;
+    flagella::control::PathSpec spec;
+    spec.path = flagella::control::Path::polyline(points, false);
+    spec.frame = flagella::control::PathFrame::World;
     spec.description = "nav_msgs/Path of " + std::to_string(points.size()) + " points (world frame)";
     build(std::move(spec));
   } catch (const std::exception& e) {
@@ -150,7 +151,7 @@ void PathFollowerNode::publishStatus(const ros::Time& stamp, const ControllerOut
   if (out.mode == last_mode_ && t - last_status_time_ < status_period_ - 1e-9) return;
   last_mode_ = out.mode;
   last_status_time_ = t;
-  const flagella_control::PathStatus& s = controller_->status();
+  const flagella::control::PathStatus& s = controller_->status();
   flagella_msgs::ControllerStatus status;
   status.header.stamp = stamp;
   status.header.frame_id = world_frame_;
@@ -181,4 +182,4 @@ void PathFollowerNode::publishReference(const ros::Time& stamp) {
   reference_published_ = true;
 }
 
-}  // namespace flagella_control_ros
+}  // namespace flagella::control::node

@@ -14,7 +14,7 @@
 
 #include "flagella_control/path_controllers.h"
 
-namespace flagella_control_ros {
+namespace flagella::control::node {
 
 class PathFollowerNode {
  public:
@@ -25,21 +25,21 @@ class PathFollowerNode {
   void onImu(const sensor_msgs::Imu& msg);
   void onCameraFix(const geometry_msgs::PointStamped& msg);
   void onPath(const nav_msgs::Path& msg);
-  void build(flagella_control::PathSpec spec);
-  void publishStatus(const ros::Time& stamp, const flagella_control::ControllerOutputs& out);
+  void build(flagella::control::PathSpec spec);
+  void publishStatus(const ros::Time& stamp, const flagella::control::ControllerOutputs& out);
   void publishReference(const ros::Time& stamp);
 
   std::string mode_, world_frame_;
-  flagella_control::BinaryCalibration calibration_;
-  flagella_control::PathFollowingGains gains_;
-  std::unique_ptr<flagella_control::PathControllerBase> controller_;
-  flagella_control::ControllerInputs inputs_;
+  flagella::control::BinaryCalibration calibration_;
+  flagella::control::PathFollowingGains gains_;
+  std::unique_ptr<flagella::control::PathControllerBase> controller_;
+  flagella::control::ControllerInputs inputs_;
   bool fix_pending_ = false;
   bool reference_published_ = false;
   bool exit_when_finished_ = false;
   double status_period_ = 0.2;
   double last_status_time_ = -1e9;
-  flagella_control::ControllerMode last_mode_ = flagella_control::ControllerMode::Idle;
+  flagella::control::ControllerMode last_mode_ = flagella::control::ControllerMode::Idle;
   double finished_at_ = -1.0;
   double linger_ = 1.0;
 
@@ -47,4 +47,4 @@ class PathFollowerNode {
   ros::Subscriber imu_sub_, fix_sub_, path_sub_;
 };
 
-}  // namespace flagella_control_ros
+}  // namespace flagella::control::node

@@ -16,7 +16,7 @@
 
 #include "flagella_control/validation.h"
 
-namespace flagella_control {
+namespace flagella::control {
 
 namespace {
 
@@ -258,4 +258,4 @@ void saveCalibration(const BinaryCalibration& c, const std::string& path) {
   if (!file) throw std::runtime_error(path + ": write failed");
 }
 
-}  // namespace flagella_control
+}  // namespace flagella::control

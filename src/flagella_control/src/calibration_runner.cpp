@@ -13,7 +13,7 @@
 #include "flagella_sim/outputs/fits.h"
 #include "flagella_sim/runtime/sim_session.h"
 
-namespace flagella_control {
+namespace flagella::control {
 
 namespace {
 
@@ -267,4 +267,4 @@ BinaryCalibration calibrate(const flagella::SimulationConfig& config,
   return c;
 }
 
-}  // namespace flagella_control
+}  // namespace flagella::control

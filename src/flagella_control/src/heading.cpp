@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-namespace flagella_control {
+namespace flagella::control {
 
 double headingFromQuaternion(const double q[4]) {
   const double x = q[0], y = q[1], z = q[2], w = q[3];
@@ -19,4 +19,4 @@ double wrapAngle(double angle) {
   return a - M_PI;
 }
 
-}  // namespace flagella_control
+}  // namespace flagella::control

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace flagella_control {
+namespace flagella::control {
 namespace {
 
 constexpr double kMinElementLength = 1e-9;  // [m]; shorter elements are dropped
@@ -215,4 +215,4 @@ double Path::turnAfter(int i) const {
   return wrapAngle(start_tangent - end_tangent);
 }
 
-}  // namespace flagella_control
+}  // namespace flagella::control

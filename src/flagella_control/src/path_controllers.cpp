@@ -8,7 +8,7 @@
 
 #include "flagella_control/validation.h"
 
-namespace flagella_control {
+namespace flagella::control {
 namespace {
 
 constexpr double kAnchorWait = 1.0;              // [s] wait this long for a first camera fix
@@ -295,4 +295,4 @@ ControllerOutputs PathFollowingController::step(const ControllerInputs& in) {
   return out;
 }
 
-}  // namespace flagella_control
+}  // namespace flagella::control

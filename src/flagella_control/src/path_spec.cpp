@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace flagella_control {
+namespace flagella::control {
 namespace {
 
 [[noreturn]] void fail(const std::string& message) { throw std::runtime_error("path: " + message); }
@@ -135,4 +135,4 @@ PathSpec loadPathSpec(const std::string& file) {
   }
 }
 
-}  // namespace flagella_control
+}  // namespace flagella::control

@@ -4,7 +4,7 @@
 
 #include "flagella_control/controller_core.h"
 
-namespace flagella_control {
+namespace flagella::control {
 
 PeriodicSwitchController::PeriodicSwitchController(double omega, double positive_duration,
                                                    double negative_duration)
@@ -31,4 +31,4 @@ ControllerOutputs PeriodicSwitchController::step(const ControllerInputs& in) {
   return out;
 }
 
-}  // namespace flagella_control
+}  // namespace flagella::control

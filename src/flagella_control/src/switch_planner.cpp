@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace flagella_control {
+namespace flagella::control {
 namespace {
 
 constexpr double kShortestInterval = 1e-3;   // [s]; shorter pieces are dropped
@@ -185,4 +185,4 @@ SwitchSchedule planSchedule(const Path& path, const BinaryCalibration& c, int la
   return schedule;
 }
 
-}  // namespace flagella_control
+}  // namespace flagella::control

@@ -4,7 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace flagella_control {
+namespace flagella::control {
 
 std::string numberString(double value) {
   std::ostringstream out;
@@ -34,4 +34,4 @@ void requireInRange(const std::string& context, const std::string& field, double
                                 "]");
 }
 
-}  // namespace flagella_control
+}  // namespace flagella::control

@@ -21,7 +21,7 @@
 
 namespace units = flagella::units;
 
-namespace flagella_control {
+namespace flagella::control {
 namespace {
 
 const std::string kConfig = std::string(FLAGELLA_CONFIG_DIR) + "/interface_path_planning.yaml";
@@ -327,4 +327,4 @@ TEST_F(InterfaceCalibration, WeakerLateralHeadForceTurnsLess) {
 }
 
 }  // namespace
-}  // namespace flagella_control
+}  // namespace flagella::control

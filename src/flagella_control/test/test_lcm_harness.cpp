@@ -19,7 +19,7 @@
 
 namespace units = flagella::units;
 
-namespace flagella_control {
+namespace flagella::control {
 namespace {
 
 const std::string kConfig = std::string(FLAGELLA_CONFIG_DIR) + "/interface_path_planning.yaml";
@@ -252,4 +252,4 @@ TEST(PeriodicSwitchController, RejectsUnusableSettings) {
 }
 
 }  // namespace
-}  // namespace flagella_control
+}  // namespace flagella::control

@@ -11,7 +11,7 @@
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
-namespace fc = flagella_control;
+namespace fc = flagella::control;
 namespace units = flagella::units;
 
 TEST(LcmPathFollowing, ControllerCoreDrivesTheSimulatorAroundASquare) {

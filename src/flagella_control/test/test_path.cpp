@@ -16,7 +16,7 @@
 #include "flagella_control/path_spec.h"
 #include "flagella_sim/core/units.h"
 
-namespace fc = flagella_control;
+namespace fc = flagella::control;
 namespace units = flagella::units;
 using fc::Path;
 using fc::Vec2;

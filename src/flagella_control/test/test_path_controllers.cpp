@@ -80,7 +80,7 @@ void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::f
 void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
 void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
 
-namespace fc = flagella_control;
+namespace fc = flagella::control;
 namespace units = flagella::units;
 using fc::Path;
 using fc::Vec2;

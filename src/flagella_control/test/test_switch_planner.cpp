@@ -17,7 +17,7 @@
 #include "flagella_sim/core/units.h"
 #include "support/sign_response.h"
 
-namespace fc = flagella_control;
+namespace fc = flagella::control;
 namespace units = flagella::units;
 using fc::Path;
 using fc::Vec2;

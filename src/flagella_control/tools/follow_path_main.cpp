@@ -23,8 +23,8 @@ int main(int argc, char** argv) {
   std::string config_path, calibration_path, path_path, mode = "closed_loop", csv_path;
   std::vector<std::string> overrides;
   double max_duration = 3000.0, sample_interval = 0.5;
-  flagella_control::HarnessOptions options;
-  flagella_control::PathFollowingGains gains;
+  flagella::control::HarnessOptions options;
+  flagella::control::PathFollowingGains gains;
   flagella::SessionOptions session_options;
   session_options.initial_motor = "stopped";
   app.add_option("config", config_path, "robot config YAML")->required()->check(CLI::ExistingFile);
@@ -55,18 +55,18 @@ int main(int argc, char** argv) {
     session_options.camera.seed = session_options.imu.seed + 1;
     const flagella::SimulationConfig config =
         flagella::loadSimulationConfig(config_path, overrides);
-    const auto calibration = flagella_control::loadCalibration(calibration_path);
-    const auto spec = flagella_control::loadPathSpec(path_path);
+    const auto calibration = flagella::control::loadCalibration(calibration_path);
+    const auto spec = flagella::control::loadPathSpec(path_path);
     flagella::SimSession session(config, session_options);
-    std::unique_ptr<flagella_control::PathControllerBase> controller;
+    std::unique_ptr<flagella::control::PathControllerBase> controller;
     if (mode == "open_loop")
-      controller = std::make_unique<flagella_control::ScheduleController>(spec, calibration);
+      controller = std::make_unique<flagella::control::ScheduleController>(spec, calibration);
     else
       controller =
-          std::make_unique<flagella_control::PathFollowingController>(spec, calibration, gains);
-    flagella_control::LcmHarness harness(session, *controller, options);
+          std::make_unique<flagella::control::PathFollowingController>(spec, calibration, gains);
+    flagella::control::LcmHarness harness(session, *controller, options);
 
-    flagella_control::TrackingStats stats;
+    flagella::control::TrackingStats stats;
     std::ofstream csv;
     if (!csv_path.empty()) {
       csv.open(csv_path);
@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
       if (!status.anchored || session.time() + 1e-9 < next_sample) return;
       next_sample += sample_interval;
       const flagella::RodSnapshot s = session.snapshot();
-      const flagella_control::Vec2 p(s.head_position.x(), s.head_position.y());
+      const flagella::control::Vec2 p(s.head_position.x(), s.head_position.y());
       const double d = controller->worldPath().project(p).distance;
       stats.add(d);
       if (csv) {
@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
         harness.requestStop();
       }
     };
-    const flagella_control::HarnessReport report = harness.run(max_duration, after_step);
+    const flagella::control::HarnessReport report = harness.run(max_duration, after_step);
     const double l = config.geometry.tail_length;
     std::printf("%s on %s: %s after %.1f s simulated (%.1f s wall, %.1fx real time)\n",
                 controller->name(), spec.description.c_str(),

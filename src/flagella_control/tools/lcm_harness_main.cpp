@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
   std::string config_path;
   std::vector<std::string> overrides;
   double duration = 30.0, omega_rpm = 43.27, positive = 5.0, negative = 5.0;
-  flagella_control::HarnessOptions options;
+  flagella::control::HarnessOptions options;
   flagella::SessionOptions session_options;
   session_options.initial_motor = "stopped";
   app.add_option("config", config_path, "robot config YAML")->required()->check(CLI::ExistingFile);
@@ -39,11 +39,11 @@ int main(int argc, char** argv) {
     const flagella::SimulationConfig config =
         flagella::loadSimulationConfig(config_path, overrides);
     flagella::SimSession session(config, session_options);
-    flagella_control::PeriodicSwitchController controller(
+    flagella::control::PeriodicSwitchController controller(
         flagella::units::rpmToRadPerSec(omega_rpm), positive, negative);
-    flagella_control::LcmHarness harness(session, controller, options);
+    flagella::control::LcmHarness harness(session, controller, options);
     const flagella::RodSnapshot start = session.snapshot();
-    const flagella_control::HarnessReport report = harness.run(duration);
+    const flagella::control::HarnessReport report = harness.run(duration);
     const flagella::RodSnapshot end = session.snapshot();
     std::printf("simulated %.3f s in %.3f s wall (%.1fx real time), %ld steps%s\n", report.sim_time,
                 report.wall_seconds, report.sim_time / report.wall_seconds, report.steps,

@@ -6,7 +6,7 @@
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/units.h"
 
-namespace flagella_ros {
+namespace flagella::sim_node {
 
 namespace {
 constexpr double kMaxMotorRpm = 1e5;
@@ -92,4 +92,4 @@ flagella::SessionOptions sessionOptionsFromParams(const ros::NodeHandle& nh) {
   return o;
 }
 
-}  // namespace flagella_ros
+}  // namespace flagella::sim_node

@@ -9,7 +9,7 @@
 
 #include "flagella_sim/runtime/sim_session.h"
 
-namespace flagella_ros {
+namespace flagella::sim_node {
 
 /// A double parameter in [min, max], or `fallback` if unset.
 double rangedParam(const ros::NodeHandle& nh, const std::string& name, double fallback, double min,
@@ -22,4 +22,4 @@ std::vector<std::string> splitOverrides(const std::string& text);
 /// The session options (motor range, failsafe, slider, IMU, camera) from parameters.
 flagella::SessionOptions sessionOptionsFromParams(const ros::NodeHandle& nh);
 
-}  // namespace flagella_ros
+}  // namespace flagella::sim_node

@@ -4,7 +4,7 @@
 
 #include <array>
 
-namespace flagella_ros {
+namespace flagella::sim_node {
 
 namespace {
 constexpr double kMarkerAlpha = 1.0;
@@ -151,4 +151,4 @@ diagnostic_msgs::DiagnosticStatus sessionStatus(const flagella::SessionHealth& h
   return d;
 }
 
-}  // namespace flagella_ros
+}  // namespace flagella::sim_node

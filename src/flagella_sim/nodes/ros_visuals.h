@@ -12,7 +12,7 @@
 #include "flagella_sim/runtime/rod_snapshot.h"
 #include "flagella_sim/runtime/sim_session.h"
 
-namespace flagella_ros {
+namespace flagella::sim_node {
 
 struct MarkerStyle {
   double tail_width = 0.004;  ///< line width of the tails [m]
@@ -38,4 +38,4 @@ diagnostic_msgs::DiagnosticStatus sessionStatus(const flagella::SessionHealth& h
                                                 const std::string& name, double sim_time,
                                                 double real_time_factor);
 
-}  // namespace flagella_ros
+}  // namespace flagella::sim_node

@@ -13,7 +13,7 @@
 #include "flagella_sim/simulation/simulation_config.h"
 #include "node_params.h"
 
-namespace flagella_ros {
+namespace flagella::sim_node {
 
 namespace {
 constexpr double kMaxRate = 1e4;  // [Hz]
@@ -375,4 +375,4 @@ int SimNode::run() {
   return 0;
 }
 
-}  // namespace flagella_ros
+}  // namespace flagella::sim_node

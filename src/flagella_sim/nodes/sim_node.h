@@ -18,7 +18,7 @@
 #include "flagella_sim/runtime/sim_session.h"
 #include "ros_visuals.h"
 
-namespace flagella_ros {
+namespace flagella::sim_node {
 
 struct SimNodeOptions {
   std::string config_path;
@@ -93,4 +93,4 @@ class SimNode {
   long lockstep_timeouts_ = 0;
 };
 
-}  // namespace flagella_ros
+}  // namespace flagella::sim_node

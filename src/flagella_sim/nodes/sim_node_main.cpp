@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh;
   ros::NodeHandle private_nh("~");
   try {
-    flagella_ros::SimNode node(nh, private_nh);
+    flagella::sim_node::SimNode node(nh, private_nh);
     return node.run();
   } catch (const flagella::ConfigError& e) {
     ROS_FATAL_STREAM("flagella_sim: configuration error: " << e.what());

@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "flagella_sim/runtime/command_gate.h"
+#include "flagella_sim/actuation/command_gate.h"
 
 namespace flagella {
 namespace {

@@ -16,6 +16,7 @@
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/outputs/output_writers.h"
 #include "flagella_sim/simulation/simulation.h"
+#include "summary_json.h"
 
 namespace flagella::cli {
 

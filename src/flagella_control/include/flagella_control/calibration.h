@@ -6,7 +6,7 @@
 
 #include <string>
 
-namespace flagella_control {
+namespace flagella::control {
 
 /// Steady motion at one constant motor sign, in the horizontal plane of the output frame (z up).
 /// Heading psi is the azimuth of the head axis (IMU body z) projected on the horizontal plane.
@@ -46,4 +46,4 @@ struct BinaryCalibration {
 BinaryCalibration loadCalibration(const std::string& path);
 void saveCalibration(const BinaryCalibration& calibration, const std::string& path);
 
-}  // namespace flagella_control
+}  // namespace flagella::control

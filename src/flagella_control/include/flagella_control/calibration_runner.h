@@ -8,7 +8,7 @@
 #include "flagella_control/calibration.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
-namespace flagella_control {
+namespace flagella::control {
 
 struct CalibrationOptions {
   double omega = 0;              ///< |motor rate| [rad/s]; 0: the config's motor.omega_rpm
@@ -51,4 +51,4 @@ SwitchingResponse measureSwitching(const flagella::SimulationConfig& config, dou
 BinaryCalibration calibrate(const flagella::SimulationConfig& config,
                             const CalibrationOptions& options);
 
-}  // namespace flagella_control
+}  // namespace flagella::control

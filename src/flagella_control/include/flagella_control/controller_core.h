@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-namespace flagella_control {
+namespace flagella::control {
 
 struct ControllerInputs {
   double time = 0.0;  ///< [s] of the robot's clock
@@ -53,4 +53,4 @@ class PeriodicSwitchController : public ControllerCore {
   double start_time_ = 0.0;
 };
 
-}  // namespace flagella_control
+}  // namespace flagella::control

@@ -2,7 +2,7 @@
 // head axis (spec 7.1: psi is the azimuth of the projection of ahat; ahat is the IMU body z).
 #pragma once
 
-namespace flagella_control {
+namespace flagella::control {
 
 /// Azimuth atan2(a_y, a_x) of the head axis a = R(q) e_z, from a quaternion x, y, z, w.
 double headingFromQuaternion(const double q[4]);
@@ -10,4 +10,4 @@ double headingFromQuaternion(const double q[4]);
 /// Wraps an angle to (-pi, pi].
 double wrapAngle(double angle);
 
-}  // namespace flagella_control
+}  // namespace flagella::control

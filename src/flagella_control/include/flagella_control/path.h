@@ -10,7 +10,7 @@
 
 #include "flagella_control/heading.h"
 
-namespace flagella_control {
+namespace flagella::control {
 
 using Vec2 = Eigen::Vector2d;
 
@@ -89,4 +89,4 @@ class Path {
   bool closed_ = false;
 };
 
-}  // namespace flagella_control
+}  // namespace flagella::control

@@ -15,7 +15,7 @@
 #include "flagella_control/path_spec.h"
 #include "flagella_control/switch_planner.h"
 
-namespace flagella_control {
+namespace flagella::control {
 
 /// What a path-following controller knows about its progress (for ControllerStatus).
 struct PathStatus {
@@ -124,4 +124,4 @@ class PathFollowingController : public PathControllerBase {
   int turn_direction_ = 0;  ///< hysteresis for a goal behind the robot
 };
 
-}  // namespace flagella_control
+}  // namespace flagella::control

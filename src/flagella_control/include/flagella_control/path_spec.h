@@ -24,7 +24,7 @@ namespace YAML {
 class Node;
 }
 
-namespace flagella_control {
+namespace flagella::control {
 
 enum class PathFrame { Start, World };
 
@@ -39,4 +39,4 @@ struct PathSpec {
 PathSpec pathSpecFromYaml(const YAML::Node& path_node);
 PathSpec loadPathSpec(const std::string& file);
 
-}  // namespace flagella_control
+}  // namespace flagella::control

@@ -11,7 +11,7 @@
 #include "flagella_control/calibration.h"
 #include "flagella_control/path.h"
 
-namespace flagella_control {
+namespace flagella::control {
 
 struct SwitchInterval {
   double start = 0.0;     ///< [s] from the start of the schedule
@@ -63,4 +63,4 @@ PeriodMotion predictPeriod(const BinaryCalibration& calibration, double heading,
 /// an arc tighter than periodic switching can steer), naming the element and the limit.
 SwitchSchedule planSchedule(const Path& path, const BinaryCalibration& calibration, int laps = 1);
 
-}  // namespace flagella_control
+}  // namespace flagella::control

@@ -7,7 +7,7 @@
 
 #include "flagella_control/path.h"
 
-namespace flagella_control {
+namespace flagella::control {
 
 struct TrackingStats {
   long samples = 0;
@@ -24,4 +24,4 @@ struct TrackingStats {
   double rms() const { return samples > 0 ? std::sqrt(sum_sq / samples) : 0.0; }
 };
 
-}  // namespace flagella_control
+}  // namespace flagella::control

@@ -4,7 +4,7 @@
 
 #include <string>
 
-namespace flagella_control {
+namespace flagella::control {
 
 /// A number as text for messages (shortest stream form).
 std::string numberString(double value);
@@ -17,4 +17,4 @@ void requirePositive(const std::string& context, const std::string& field, doubl
 void requireInRange(const std::string& context, const std::string& field, double value, double lo,
                     double hi);
 
-}  // namespace flagella_control
+}  // namespace flagella::control

@@ -6,7 +6,7 @@
 
 #include "flagella_control/calibration.h"
 
-namespace flagella_control::testing {
+namespace flagella::control::testing {
 
 inline SignResponse signResponse(double yaw_rate, double v_along, double v_left) {
   SignResponse r;
@@ -19,4 +19,4 @@ inline SignResponse signResponse(double yaw_rate, double v_along, double v_left)
   return r;
 }
 
-}  // namespace flagella_control::testing
+}  // namespace flagella::control::testing

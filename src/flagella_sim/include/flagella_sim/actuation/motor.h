@@ -9,9 +9,9 @@
 #include <optional>
 #include <vector>
 
+#include "flagella_sim/actuation/command_gate.h"
 #include "flagella_sim/actuation/motor_command.h"
 #include "flagella_sim/effects/effect.h"
-#include "flagella_sim/runtime/command_gate.h"
 
 namespace flagella {
 

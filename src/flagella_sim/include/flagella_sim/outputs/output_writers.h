@@ -1,12 +1,11 @@
 // Files a run leaves behind: CSV time series (columns documented in the README), node
-// positions, and a JSON summary.
+// positions, and plain text (the JSON summary is written by flagella_run: tools/summary_json.h).
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "flagella_sim/outputs/trajectory.h"
-#include "flagella_sim/simulation/simulation_config.h"
 
 namespace flagella {
 
@@ -15,9 +14,6 @@ void writeTrajectoryCsv(const std::string& path, const std::vector<TrajectorySam
 std::string trajectoryCsvHeader();
 /// Long format: time,node,x,y,z for every sample that carries node positions.
 void writeNodesCsv(const std::string& path, const std::vector<TrajectorySample>& samples);
-/// Summary metrics (SI and rpm) plus the run's key inputs.
-std::string summaryJson(const SimulationConfig& config, const SummaryMetrics& m,
-                        double wall_seconds);
 void writeText(const std::string& path, const std::string& text);
 
 }  // namespace flagella

@@ -7,10 +7,10 @@
 #include <memory>
 #include <string>
 
+#include "flagella_sim/actuation/command_gate.h"
 #include "flagella_sim/actuation/motor_command.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/runtime/camera_model.h"
-#include "flagella_sim/runtime/command_gate.h"
 #include "flagella_sim/runtime/imu_model.h"
 #include "flagella_sim/runtime/rod_snapshot.h"
 #include "flagella_sim/simulation/simulation.h"

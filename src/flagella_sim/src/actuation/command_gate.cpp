@@ -1,4 +1,4 @@
-#include "flagella_sim/runtime/command_gate.h"
+#include "flagella_sim/actuation/command_gate.h"
 
 #include <cmath>
 #include <stdexcept>
