@@ -1,4 +1,4 @@
-// Validation and YAML storage of the binary-input calibration (spec 7.3).
+// Validation and YAML storage of the binary-input calibration (docs/model.md 7.3).
 #include "flagella_control/calibration.h"
 
 #include <yaml-cpp/yaml.h>
@@ -230,7 +230,7 @@ BinaryCalibration loadCalibration(const std::string& path) {
 
 void saveCalibration(const BinaryCalibration& c, const std::string& path) {
   std::ostringstream out;
-  out << "# Binary-input calibration of a flagellated robot (physics spec 7.3).\n"
+  out << "# Binary-input calibration of a flagellated robot (docs/model.md 7.3).\n"
          "# Output frame, z up: heading psi = azimuth of the head axis; angles counter-clockwise\n"
          "# positive. SI units: rad/s, s, m, m/s, rad.\n"
          "# plus/minus: steady motion at constant +omega/-omega. Periodic switching: +omega for\n"

@@ -22,7 +22,7 @@ ControllerOutputs PeriodicSwitchController::step(const ControllerInputs& in) {
     started_ = true;
     start_time_ = in.time;
   }
-  // Phase within the period (spec 7.3): first the positive half, then the negative one.
+  // Phase within the period (docs/model.md 7.3): first the positive half, then the negative one.
   const double period = positive_ + negative_;
   const double phase = std::fmod(std::max(0.0, in.time - start_time_), period);
   ControllerOutputs out;

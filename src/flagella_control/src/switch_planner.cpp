@@ -104,7 +104,7 @@ PeriodMotion steadyPeriod(const BinaryCalibration& c, double heading, double plu
 }  // namespace
 
 PeriodMotion predictPeriod(const BinaryCalibration& c, double heading, double plus_duration) {
-  // Correction from the measured symmetric period (spec 7.3 "advance per period").
+  // Correction from the measured symmetric period (docs/model.md 7.3 "advance per period").
   const PeriodMotion ideal = steadyPeriod(c, 0.0, 0.5 * c.switch_period);
   const double scale = c.advance_per_period / ideal.displacement.norm();
   const double rotation =

@@ -1,7 +1,7 @@
-// The binary-input calibration (spec 7.3): YAML storage and validation, and the simulator
+// The binary-input calibration (docs/model.md 7.3): YAML storage and validation, and the simulator
 // measurement checked against independent truths: kinematic identities of steady circling,
 // mirror symmetry between the motor signs, consistency of the switching run with the
-// constant-sign runs, and the lateral head force as the cause of the yaw (spec 3.3).
+// constant-sign runs, and the lateral head force as the cause of the yaw (docs/model.md 3.3).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -243,10 +243,10 @@ TEST_F(InterfaceCalibration, ConstantSignObeysCirclingKinematics) {
 }
 
 // Straight tails with spokes in the horizontal plane, a head restraint that is even in height and
-// pitch, and a lateral head force odd in the spin (spec 3.3): the model is exactly symmetric under
-// the mirror through the vertical plane containing the head axis, which reverses the spin. The
-// two runs are then mirror images up to solver round-off (found: ~1e-14 relative); 1e-6 leaves
-// room for Newton-termination differences while still catching any real asymmetry.
+// pitch, and a lateral head force odd in the spin (docs/model.md 3.3): the model is exactly
+// symmetric under the mirror through the vertical plane containing the head axis, which reverses
+// the spin. The two runs are then mirror images up to solver round-off (found: ~1e-14 relative);
+// 1e-6 leaves room for Newton-termination differences while still catching any real asymmetry.
 TEST_F(InterfaceCalibration, MotorSignsAreMirrorImages) {
   const SignResponse& p = calibration_->plus;
   const SignResponse& m = calibration_->minus;
@@ -302,11 +302,12 @@ TEST_F(InterfaceCalibration, SwitchingAdvanceMatchesTheConstantSignResponses) {
   EXPECT_LT(std::abs(angle_error), units::degToRad(3.0));
 }
 
-// The yaw comes from the lateral head force F = -C_yr mu0 R L_head Omega_h xhat (spec 3.3): with
-// C_yr = 0 the model is also symmetric under a half turn about the head axis (up <-> down), which
-// reverses any yaw, so there is none. Stokes flow is linear in the forces and the path bends
-// slowly, so the yaw rate should scale about linearly with C_yr: cutting C_yr by 30 % must cut
-// the yaw rate by about 30 % (found: ratio 0.700), in the same sense. Tolerance 0.05 on the ratio.
+// The yaw comes from the lateral head force F = -C_yr mu0 R L_head Omega_h xhat
+// (docs/model.md 3.3): with C_yr = 0 the model is also symmetric under a half turn about the head
+// axis (up <-> down), which reverses any yaw, so there is none. Stokes flow is linear in the forces
+// and the path bends slowly, so the yaw rate should scale about linearly with C_yr: cutting C_yr by
+// 30 % must cut the yaw rate by about 30 % (found: ratio 0.700), in the same sense. Tolerance 0.05
+// on the ratio.
 TEST_F(InterfaceCalibration, WeakerLateralHeadForceTurnsLess) {
   double c_yr = 0.0;
   for (const flagella::EffectSpec& e : config_->effects)

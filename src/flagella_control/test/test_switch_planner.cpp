@@ -1,7 +1,7 @@
-// Open-loop planning (switch_planner.h, spec 7.3): schedule timing for hand-made calibrations,
-// the heading arithmetic of unequal half-periods, the corner holds and cuts checked against an
-// independent integration of the ideal kinematic model (constant body velocity and yaw rate per
-// sign), and the error cases.
+// Open-loop planning (switch_planner.h, docs/model.md 7.3): schedule timing for hand-made
+// calibrations, the heading arithmetic of unequal half-periods, the corner holds and cuts checked
+// against an independent integration of the ideal kinematic model (constant body velocity and yaw
+// rate per sign), and the error cases.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -181,7 +181,7 @@ TEST(SwitchPlanner, StraightLineIsPeriodicSwitching) {
 TEST(SwitchPlanner, StraightLineWithDriftUsesUnequalHalvesThatCancelIt) {
   const fc::BinaryCalibration c = asymmetricCalibration();
   const double d = c.heading_drift_per_period, wp = c.plus.yaw_rate, wm = c.minus.yaw_rate;
-  const double eps = -d / (wp - wm);  // spec 7.3
+  const double eps = -d / (wp - wm);  // docs/model.md 7.3
   ASSERT_NEAR(eps, -0.1 / 0.06, 1e-12);
   const double L = 0.3;  // 25 periods
   const fc::SwitchSchedule s = fc::planSchedule(Path::polyline({{0, 0}, {L, 0}}, false), c);

@@ -1,5 +1,5 @@
-// flagella_calibrate: estimates a robot's response to its binary motor input (spec 7.3) from
-// the core simulator and writes it as YAML for the planner and the path-following controller.
+// flagella_calibrate: estimates a robot's response to its binary motor input (docs/model.md 7.3)
+// from the core simulator and writes it as YAML for the planner and the path-following controller.
 //   flagella_calibrate config/interface_path_planning.yaml
 //       -o config/calibration/interface_path_planning.yaml [--set section.field=value ...]
 //       [--period T] [--settle S] [--measure M] [--periods N] [--settle-periods N]
@@ -56,7 +56,7 @@ void printSign(const char* name, const flagella::control::SignResponse& r, doubl
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "flagella_calibrate: binary-input response of a robot (spec 7.3), from the core "
+      "flagella_calibrate: binary-input response of a robot (docs/model.md 7.3), from the core "
       "simulator, written as YAML"};
   std::string config_path, output;
   std::vector<std::string> overrides;

@@ -1,7 +1,7 @@
-// Actuation and drag balances (spec 1.9, 2, 3.1, 7.1): the motor is torque-free, so head and tails
-// counter-rotate with |omega_h| + |omega_t| = omega_T and the external axial torques and forces
-// cancel; a robot whose tails cannot bend does not swim and splits omega_T by the ratio of its
-// rigid-body rotational drags; a lone head under a constant load moves at Stokes' velocity.
+// Actuation and drag balances (docs/model.md 1.9, 2, 3.1, 7.1): the motor is torque-free, so head
+// and tails counter-rotate with |omega_h| + |omega_t| = omega_T and the external axial torques and
+// forces cancel; a robot whose tails cannot bend does not swim and splits omega_T by the ratio of
+// its rigid-body rotational drags; a lone head under a constant load moves at Stokes' velocity.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -24,8 +24,8 @@
 namespace flagella {
 namespace {
 
-// Design 1 inputs of spec 8.1, restated here so the balances below do not read them back from
-// the code under test (a config that drifts from the spec makes the balances fail).
+// Design 1 inputs of docs/model.md 8.1, restated here so the balances below do not read them back
+// from the code under test (a config that drifts from docs/model.md makes the balances fail).
 constexpr double kTailLength = 0.111;   // L [m]
 constexpr double kTailRadius = 3.2e-3;  // r0 [m]
 constexpr double kHeadRadius = 0.02;    // a [m]
@@ -60,7 +60,7 @@ constexpr double kRigidSplitTolerance = 0.01;
 
 double motorOmega() { return units::rpmToRadPerSec(kMotorRpm); }
 
-// RFT coefficients of spec 2, log form ln(2L/r0) (Eq. 2.10/3.3).
+// RFT coefficients of docs/model.md 2, log form ln(2L/r0) (Eq. 2.10/3.3).
 struct Rft {
   double eta_t, eta_p;
 };
@@ -84,7 +84,7 @@ std::unique_ptr<Simulation> runDesign1(int n_tails, const std::vector<std::strin
   return sim;
 }
 
-// External generalised loads at the current state, recomputed from spec 2 and 3.1 with the
+// External generalised loads at the current state, recomputed from docs/model.md 2 and 3.1 with the
 // implicit velocities qdot = (q - q_k)/dt stored in the state.
 struct ExternalBalance {
   double head_torque = 0.0;  // about the head axis t^0 (generalised force on theta^0)
@@ -108,7 +108,7 @@ ExternalBalance externalBalance(const Simulation& sim) {
     const double dl = kTailLength / (n - 1);
     for (int i = 0; i < n; ++i) {
       // Root (disc rim) and tip get half an edge; node tangent = normalised mean of the tail
-      // edges that touch the node (spec 2, [CORR-4]).
+      // edges that touch the node (docs/model.md 2, [CORR-4]).
       const double l = (i == 0 || i == n - 1) ? 0.5 * dl : dl;
       Vec3 t = Vec3::Zero();
       if (i > 0) t += (nodePosition(s.q, tail[i]) - nodePosition(s.q, tail[i - 1])).normalized();
@@ -137,11 +137,11 @@ TEST_P(TorqueFreeMotor, HeadAndTailsCounterRotateAndShareMotorSpeed) {
               n_tails, m.omega_h_signed, m.omega_t_signed, m.omega_h + m.omega_t, omega_T, m.speed);
   EXPECT_LT(m.omega_h_signed * m.omega_t_signed, 0.0) << "head and tails must counter-rotate";
   EXPECT_NEAR(m.omega_h + m.omega_t, omega_T, kSpinSumTolerance * omega_T);
-  // The motor twists theta^1 ahead of theta^0, positive about t^1 (spec 1.9).
+  // The motor twists theta^1 ahead of theta^0, positive about t^1 (docs/model.md 1.9).
   EXPECT_NEAR(m.omega_t_signed - m.omega_h_signed, omega_T, kSpinSumTolerance * omega_T);
 
   // Torque-free: the head's drag torque is balanced by the tails' RFT torque, and the head's
-  // drag force by the tails' thrust (low Reynolds number, spec 2/3.1).
+  // drag force by the tails' thrust (low Reynolds number, docs/model.md 2/3.1).
   const ExternalBalance b = externalBalance(*sim);
   std::printf(
       "[n=%d] axial torque head %+.5e tails %+.5e N m (rel residual %.1e); axial force "

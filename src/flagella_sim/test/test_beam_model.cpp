@@ -1,6 +1,7 @@
-// Tests of the Euler–Bernoulli beam model (spec 6) against independent truth: the closed-form LB
-// solution and its analytic deflection profile, the balances recomputed from the spec formulas, an
-// independent Picard/trapezoid solve of the nonlinear tail BVP, and mesh refinement.
+// Tests of the Euler–Bernoulli beam model (docs/model.md 6) against independent truth: the
+// closed-form LB solution and its analytic deflection profile, the balances recomputed from the
+// formulas of docs/model.md, an independent Picard/trapezoid solve of the nonlinear tail BVP, and
+// mesh refinement.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -31,7 +32,7 @@ constexpr int kMaxPicardIterations = 500;
 
 double rpm(double value) { return units::rpmToRadPerSec(value); }
 
-// Design 1 of spec 8.1 with the beam inputs of spec 6.
+// Design 1 of docs/model.md 8.1 with the beam inputs of docs/model.md 6.
 BeamDesign design1() {
   BeamDesign d;
   d.n_tails = 2;
@@ -47,7 +48,7 @@ BeamDesign design1() {
   return d;
 }
 
-// Independent spec-2 drag coefficients with the ln(2L/r0) form, and spec-6 EI.
+// Independent drag coefficients of docs/model.md 2 with the ln(2L/r0) form, and EI of 6.
 struct Coefficients {
   double eta_t, eta_p, EI;
 };
@@ -97,7 +98,7 @@ TEST(BeamModel, LinearProfileMatchesAnalyticDeflection) {
   const FlagellumLoads loads = solveFlagellum(d, omega_t, v_h, BeamRegime::kLinear);
   ASSERT_TRUE(loads.converged) << loads.message;
   ASSERT_EQ(loads.y.size(), loads.w.size());
-  const double p = c.eta_p * omega_t * d.disc_radius;  // spec 6 LB load
+  const double p = c.eta_p * omega_t * d.disc_radius;  // docs/model.md 6 LB load
   const double tip = p * std::pow(L, 4) / (8.0 * c.EI);
   for (size_t i = 0; i < loads.y.size(); ++i) {
     const double y = loads.y[i];
@@ -118,7 +119,7 @@ void expectClosedFormBalances(const BeamDesign& d, double omega_T) {
   const BeamSolution s = linearBeamClosedForm(d, omega_T);
   const double n = d.n_tails, a = d.head_radius, mu = d.viscosity, L = d.tail_length;
   const double V = s.omega_t * d.disc_radius;
-  // Tail forces recomputed from the returned rates (spec 6, LB).
+  // Tail forces recomputed from the returned rates (docs/model.md 6, LB).
   const double tip = c.eta_p * V * std::pow(L, 4) / (8.0 * c.EI);
   const double F_x = c.eta_p * V * L;
   const double F_p =
@@ -182,7 +183,7 @@ TEST(BeamModel, NonlinearDeflectsLessThanLinearAtLargeSpeed) {
             kSmallDeflectionAgreement * lb.tip_deflection);
 }
 
-// The numeric NLB solution must satisfy the three balances of spec 6.
+// The numeric NLB solution must satisfy the three balances of docs/model.md 6.
 TEST(BeamModel, NonlinearSolutionSatisfiesBalances) {
   const BeamDesign d = design1();
   const double n = d.n_tails, a = d.head_radius, mu = d.viscosity;
@@ -199,7 +200,7 @@ TEST(BeamModel, NonlinearSolutionSatisfiesBalances) {
   }
 }
 
-// Independent solve of EI w'''' = p(w') (spec 6): Picard iteration on the integral form
+// Independent solve of EI w'''' = p(w') (docs/model.md 6): Picard iteration on the integral form
 // EI w''(y) = int_y^L int_s^L p, with cumulative trapezoid quadrature on a fine grid.
 struct ReferenceTail {
   double tip, F_x, F_p;

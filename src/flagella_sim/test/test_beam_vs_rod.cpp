@@ -1,8 +1,9 @@
-// The Euler-Bernoulli beam model (spec 6) and the DER rod model must agree at small motor speed,
-// where the tails are only slightly bent and both models describe the same physics: RFT drag on
-// straight-ish clamped tails (spec 2), Stokes head drag (spec 3.1) and the motor constraint.
-// Compared at omega_T = 10 rpm for the granular designs 1 and 2 (spec 8.1, 8.2): the tail tip
-// deflection w(L), the propulsive force per tail F_p, and the spin rates.
+// The Euler-Bernoulli beam model (docs/model.md 6) and the DER rod model must agree at small motor
+// speed, where the tails are only slightly bent and both models describe the same physics: RFT drag
+// on straight-ish clamped tails (docs/model.md 2), Stokes head drag (docs/model.md 3.1) and the
+// motor constraint. Compared at omega_T = 10 rpm for the granular designs 1 and 2
+// (docs/model.md 8.1, 8.2): the tail tip deflection w(L), the propulsive force per tail F_p, and
+// the spin rates.
 //
 // Rod tip deflection. The beam tail is planar: clamped at the plate at radius R_d, moving with
 // velocity V = omega_t R_d along -x, deflected by w(y) along +x, i.e. opposite to its own motion
@@ -20,12 +21,12 @@
 // so per tail F_p = C_t 6 pi mu a v / n_t with v the steady head speed. This is the net thrust
 // including the tails' own axial drag, i.e. the beam's F_p with include_tail_axial_drag = true.
 //
-// Mesh. The rod's tail root spring is rigid (spec 8.1, glued tails), so the first tail edge cannot
-// bend and the first flexible bending spring (second tail node) has the Voronoi domain [h/2, 3h/2]:
-// the effective clamp sits about h/2 from the disc, a first-order error w ~ (L - h/2)^4, i.e.
-// -2h/L = -7.4 % at the config's 27 edges (design 1) and -9.1 % at 22 edges (design 2). The
-// comparison within 5 % therefore uses a 4x refined mesh, checks that the rod converges at first
-// order, and checks that the Richardson extrapolation of the rod agrees with the beam more
+// Mesh. The rod's tail root spring is rigid (docs/model.md 8.1, glued tails), so the first tail
+// edge cannot bend and the first flexible bending spring (second tail node) has the Voronoi domain
+// [h/2, 3h/2]: the effective clamp sits about h/2 from the disc, a first-order error w ~ (L -
+// h/2)^4, i.e. -2h/L = -7.4 % at the config's 27 edges (design 1) and -9.1 % at 22 edges (design
+// 2). The comparison within 5 % therefore uses a 4x refined mesh, checks that the rod converges at
+// first order, and checks that the Richardson extrapolation of the rod agrees with the beam more
 // tightly. The config-mesh gap is printed for the record.
 #include <gtest/gtest.h>
 
@@ -162,7 +163,8 @@ RodResult simulateRod(const DesignCase& dc, int edges) {
   d.C_t = sim.parameter("effects.stokes_head.C_t");
   d.C_r = sim.parameter("effects.stokes_head.C_r");
   d.viscosity = sim.parameter("medium.viscosity");
-  d.log_form = RftLogForm::kTwoLengthOverRadius;  // spec 8.1/8.2: ln(2L/r0) (Eq. 2.10 / 3.3)
+  d.log_form =
+      RftLogForm::kTwoLengthOverRadius;  // docs/model.md 8.1/8.2: ln(2L/r0) (Eq. 2.10 / 3.3)
   d.include_tail_axial_drag = true;  // the rod's head-drag balance is the net tail force
   r.propulsive_force = d.C_t * 6.0 * M_PI * d.viscosity * d.head_radius * r.speed / d.n_tails;
   return r;

@@ -1,5 +1,6 @@
-// Discretisation convergence of the steady-state metrics (spec 7.1) in time step and edge length,
-// for the granular design 1 robot (spec 8.1, n = 2, 100 rpm) and the interface robot (spec 8.3).
+// Discretisation convergence of the steady-state metrics (docs/model.md 7.1) in time step and edge
+// length, for the granular design 1 robot (docs/model.md 8.1, n = 2, 100 rpm) and the interface
+// robot (docs/model.md 8.3).
 //
 // Halving dt (0.01 -> 0.005 s) and halving the tail edge length (27 -> 54 edges for design 1,
 // 28 -> 56 for the interface robot) must change the summary metrics by less than the stated

@@ -1,7 +1,8 @@
-// Design 1 granular robot of spec 8.1 at omega_T = 100 rpm with the shipped config: the robot
-// swims head first, the head takes most of the motor's rotation, and two tails swim faster than
-// three ([CORR-16]: v decreases as n increases), with the tails of the 3-tail robot turning slower.
-// Metrics are recomputed here from the sampled trajectory (spec 7.1) and compared with summary().
+// Design 1 granular robot of docs/model.md 8.1 at omega_T = 100 rpm with the shipped config: the
+// robot swims head first, the head takes most of the motor's rotation, and two tails swim faster
+// than three ([CORR-16]: v decreases as n increases), with the tails of the 3-tail robot turning
+// slower. Metrics are recomputed here from the sampled trajectory (docs/model.md 7.1) and compared
+// with summary().
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -32,7 +33,8 @@ constexpr double kMetricAgreement = 1e-6;
 // symmetric about its axis, so any drift is round-off; 1 % still catches a yawing robot.
 constexpr double kLateralDriftFraction = 0.01;
 // Head spin as a share of omega_T: the fitted head torque prefactor C_r is small, so the head
-// turns much more easily than the tails (spec 8.1); at least half is the required property.
+// turns much more easily than the tails (docs/model.md 8.1); at least half is the required
+// property.
 constexpr double kHeadSpinShare = 0.5;
 
 double motorOmega() { return units::rpmToRadPerSec(kMotorRpm); }
@@ -115,7 +117,7 @@ Design1Result runAndCheck(int n_tails) {
   EXPECT_NEAR(early.speed, late.speed, kSteadinessTolerance * std::abs(late.speed));
   EXPECT_NEAR(early.omega_h, late.omega_h, kSteadinessTolerance * std::abs(late.omega_h));
   EXPECT_NEAR(early.omega_t, late.omega_t, kSteadinessTolerance * std::abs(late.omega_t));
-  // summary() reports the same spec 7.1 quantities.
+  // summary() reports the same docs/model.md 7.1 quantities.
   EXPECT_NEAR(r.summary.speed, r.window.speed, kMetricAgreement * std::abs(r.window.speed));
   EXPECT_NEAR(r.summary.omega_h_signed, r.window.omega_h, kMetricAgreement * omega_T);
   EXPECT_NEAR(r.summary.omega_t_signed, r.window.omega_t, kMetricAgreement * omega_T);

@@ -1,9 +1,9 @@
 // The model-extension effects used by the identification tool, against closed forms that do not
 // come from the code under test: a towed head with a granular yield force (Coulomb + Stokes
 // velocity), stick-slip jamming (sawtooth period of ds/dt = (F - k_j s)/c), the COM-offset
-// gravity couple (spec 5 balance law), the viscosity drift factor, and a DC motor's
-// torque-speed curve on the design-1 robot (torque balance on the rigid head, spec 3.1). Every
-// effect with its default parameters leaves a run unchanged.
+// gravity couple (docs/model.md 5 balance law), the viscosity drift factor, and a DC motor's
+// torque-speed curve on the design-1 robot (torque balance on the rigid head, docs/model.md 3.1).
+// Every effect with its default parameters leaves a run unchanged.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -39,7 +39,7 @@ namespace {
 constexpr double kHeadRadius = 0.02;  // a [m]
 constexpr double kViscosity = 1.0;    // mu0 [Pa s]
 constexpr double kCt = 1.0;           // C_t
-// Translational Stokes drag coefficient c = C_t 6 pi mu a of the head (spec 3.1).
+// Translational Stokes drag coefficient c = C_t 6 pi mu a of the head (docs/model.md 3.1).
 constexpr double kDrag = kCt * 6.0 * M_PI * kViscosity * kHeadRadius;
 
 /// `density` sets the lumped masses only: mass/drag is ~3 ms at the VPS density.
@@ -280,7 +280,7 @@ TEST(ComOffset, ForcesHaveZeroSumAndTheCoupleOfTheOffsetWeight) {
       }
     }
     EXPECT_EQ(F.tail(net.numEdges()).norm(), 0.0);
-    // spec 5: the real couple is l ahat x (m_h g), ahat = t^0 (nose toward tails)
+    // docs/model.md 5: the real couple is l ahat x (m_h g), ahat = t^0 (nose toward tails)
     const Vec3 ahat =
         (nodePosition(q, parts.head_center_node) - nodePosition(q, parts.head_front_node))
             .normalized();
@@ -297,7 +297,7 @@ TEST(ComOffset, ForcesHaveZeroSumAndTheCoupleOfTheOffsetWeight) {
 
 TEST(ComOffset, HeadMassDefaultsToTheDisplacedMediumAndIsANamedParameter) {
   const std::string design1 = std::string(FLAGELLA_CONFIG_DIR) + "/granular_design1.yaml";
-  // spec 8.1 / config: rho_m = 1000 kg/m^3, a = 0.02 m, L_head = 2 a
+  // docs/model.md 8.1 / config: rho_m = 1000 kg/m^3, a = 0.02 m, L_head = 2 a
   const double expected = 1000.0 * M_PI * 0.02 * 0.02 * 0.04;
   Simulation sim(loadSimulationConfig(design1, {"effects.com_offset.offset=0.002"}));
   EXPECT_NEAR(sim.parameter("effects.com_offset.head_mass"), expected, 1e-12 * expected);
@@ -360,7 +360,7 @@ TEST(ViscosityDrift, HeadDragAtTimeTIsTheNoDriftDragTimesTheFactor) {
 
 TEST(ViscosityDrift, FollowsTheViscosityParameterAndOverrides) {
   const std::string design1 = std::string(FLAGELLA_CONFIG_DIR) + "/granular_design1.yaml";
-  constexpr double kRate = 0.5, kSession = 7200.0, kMu0 = 6.828;  // spec 8.1 mu
+  constexpr double kRate = 0.5, kSession = 7200.0, kMu0 = 6.828;  // docs/model.md 8.1 mu
   Simulation sim(loadSimulationConfig(
       design1, {"robot.tail_edges=10", "simulation.dt=0.02", "effects.viscosity_drift.rate=0.5",
                 "effects.viscosity_drift.session_time=7200"}));
@@ -396,12 +396,12 @@ TEST(ViscosityDrift, FactorDownToTheMinimumIsAnErrorNamingTheRate) {
 
 // ---- dc_motor on the design-1 robot ------------------------------------------------------------
 
-// spec 8.1 inputs, restated: head torque prefactor, granular mu, head radius, motor speed.
+// docs/model.md 8.1 inputs, restated: head torque prefactor, granular mu, head radius, motor speed.
 constexpr double kDesign1Cr = 0.039;
 constexpr double kDesign1Mu = 6.828;
 constexpr double kDesign1A = 0.02;
 constexpr double kMotorOmega = units::rpmToRadPerSec(100.0);  // [rad/s]
-// Head drag torque per unit head spin, C_r 8 pi mu a^3 (spec 3.1).
+// Head drag torque per unit head spin, C_r 8 pi mu a^3 (docs/model.md 3.1).
 const double kHeadTorquePerSpin = kDesign1Cr * 8.0 * M_PI * kDesign1Mu * std::pow(kDesign1A, 3);
 
 std::vector<std::string> fastDesign1(double duration) {

@@ -1,5 +1,5 @@
 // Every effect's force Jacobian against central finite differences of its force, at random
-// states with non-zero velocities (spec 2, 3.1, 3.3).
+// states with non-zero velocities (docs/model.md 2, 3.1, 3.3).
 #include <gtest/gtest.h>
 
 #include <random>
@@ -162,7 +162,7 @@ TEST(EffectJacobians, IntegratedLateralCoefficientMatchesDirectQuadrature) {
     const double phi = 2.0 * M_PI * (i + 0.5) / n;
     I += std::sin(phi) / (1.0 + std::exp(k * (std::sin(phi) - h))) * 2.0 * M_PI / n;
   }
-  EXPECT_LT(I, 0.0);  // the upper arc sits in air (spec 3.3)
+  EXPECT_LT(I, 0.0);  // the upper arc sits in air (docs/model.md 3.3)
   EXPECT_NEAR(integratedLateralCoefficient(h, k), -I, 1e-9);
   // Without an interface (h -> infinity) the integral vanishes by symmetry.
   EXPECT_NEAR(integratedLateralCoefficient(1e3, k), 0.0, 1e-12);

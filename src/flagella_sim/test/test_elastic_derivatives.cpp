@@ -1,6 +1,6 @@
-// Finite-difference checks of the elastic gradients and Hessians (spec 1.5 "required unit test"),
-// including junction springs with flipped edges. Frames are transported from the base state and
-// the reference twist is tracked through the time-parallel transport path, as the stepper does.
+// Finite-difference checks of the elastic gradients and Hessians (docs/model.md 1.5 "required unit
+// test"), including junction springs with flipped edges. Frames are transported from the base state
+// and the reference twist is tracked through the time-parallel transport path, as the stepper does.
 #include <gtest/gtest.h>
 
 #include "flagella_sim/elastic/bend_twist_energy.h"

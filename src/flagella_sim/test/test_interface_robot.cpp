@@ -1,6 +1,6 @@
-// Physics tests of the interface robot (spec 3.3, 7.1, 7.3, 8.3): near the air-glycerin boundary
-// the rotation-induced lateral head force makes the robot circle about the world vertical at
-// constant motor speed; reversing the motor mirrors the circle; periodic sign switching (binary
+// Physics tests of the interface robot (docs/model.md 3.3, 7.1, 7.3, 8.3): near the air-glycerin
+// boundary the rotation-induced lateral head force makes the robot circle about the world vertical
+// at constant motor speed; reversing the motor mirrors the circle; periodic sign switching (binary
 // control) gives a straight net path; and without the lateral force (C_yr = 0) there is no
 // circling.
 //
@@ -30,7 +30,7 @@ namespace {
 constexpr double kConstantDuration = 30.0;       // [s] constant-omega runs
 constexpr double kConstantSteadyFraction = 0.8;  // window 6..30 s
 constexpr int kBinaryPeriods = 10;               // whole +/- periods simulated
-constexpr double kMotorRpm = 43.27;              // omegabar = 10 (spec 7.3, 8.3)
+constexpr double kMotorRpm = 43.27;              // omegabar = 10 (docs/model.md 7.3, 8.3)
 
 // ---- tolerances -----------------------------------------------------------------------------
 // (a) The window must turn the heading by at least this much for "clearly circling" [rad]
@@ -47,11 +47,12 @@ constexpr double kSummaryAgreement = 1e-3;
 // (a) Kinematics of uniform circular motion: R = |v_horizontal| / |omega_yr|. Holds to the
 //     wobble of the head path; 2 %.
 constexpr double kKinematicTolerance = 0.02;
-// (a) The model has no buoyancy or vertical restoring force (spec 3.3), so the head axis pitch
+// (a) The model has no buoyancy or vertical restoring force (docs/model.md 3.3), so the head axis
+// pitch
 //     drifts slowly; yaw about the vertical is only meaningful while it stays near horizontal.
 constexpr double kMaxPitch = units::degToRad(3.0);  // [rad]
 // (b) Mirror symmetry makes |yaw rate| and the radius exactly equal for +/-omega up to solver
-//     tolerances (measured ~1e-14); 2 % as in the spec's "equal radii".
+//     tolerances (measured ~1e-14); 2 % as in docs/model.md's "equal radii".
 constexpr double kMirrorTolerance = 0.02;
 // (b) Pointwise: the -omega head path is the mirror image of the +omega path. The symmetry is
 //     exact, so only Newton-tolerance-level differences are allowed: 1e-4 of R (measured 1e-12).
@@ -132,7 +133,7 @@ const RunResult& fittedMinus() {
 // Horizontal coordinates with (e1, e2, up) right-handed: e1 = +z, e2 = up x e1 = +x.
 Eigen::Vector2d horizontal(const Vec3& p) { return {p.z(), p.x()}; }
 
-// Heading psi: azimuth about +up of the forward direction -t^0 (spec 7.1, omega_yr).
+// Heading psi: azimuth about +up of the forward direction -t^0 (docs/model.md 7.1, omega_yr).
 double heading(const TrajectorySample& s) {
   const Eigen::Vector2d f = horizontal(-s.head_axis);
   return std::atan2(f.y(), f.x());
@@ -315,7 +316,7 @@ TEST(InterfaceRobot, ReversingOmegaMirrorsTheCircle) {
 // ---- (c) binary switching: straight net path ---------------------------------------------------
 
 TEST(InterfaceRobot, BinarySwitchingGivesStraightNetPath) {
-  // Path-planning set (spec 8.3): N = 2, spokes along +/-x (mirror symmetric like above),
+  // Path-planning set (docs/model.md 8.3): N = 2, spokes along +/-x (mirror symmetric like above),
   // +/-43.27 rpm with 5 s half periods.
   SimulationConfig binary = loadSimulationConfig(configPath("interface_path_planning.yaml"), {});
   ASSERT_EQ(binary.motor.mode, "binary");

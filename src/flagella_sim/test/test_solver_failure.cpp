@@ -175,7 +175,7 @@ TEST(SolverFailure, FailedStepLeavesTheMotorAndTheNetworkAsTheyWere) {
   const double tau_bar0 = motorTauBar(stepper);
   for (int k = 0; k < kWarmupSteps; ++k) stepper.step(state, c.dt, motor);
   EXPECT_EQ(motorTauBar(stepper), tau_bar0) << "a step wrote the network's natural twist";
-  // spec 1.9: tau_bar(t) = tau_bar(0) + sum omega dt
+  // docs/model.md 1.9: tau_bar(t) = tau_bar(0) + sum omega dt
   EXPECT_NEAR(state.motor_twist_offset, kWarmupSteps * c.dt * c.motor.omega, kTimeTol);
   const Motor::Record before = motor.record();
   EXPECT_EQ(before.command, c.motor.omega);

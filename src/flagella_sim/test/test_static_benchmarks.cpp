@@ -1,7 +1,8 @@
-// Static benchmarks of the DER network (spec 1.2-1.5, 1.10) against closed-form beam theory:
-// a clamped cantilever under a uniform transverse load and under a tip load (Euler-Bernoulli),
-// and a clamped rod under an end torque (Saint-Venant torsion). Equilibrium is reached with the
-// implicit stepper (spec 1.10) using a huge time step, so the inertia term m/dt^2 is negligible.
+// Static benchmarks of the DER network (docs/model.md 1.2-1.5, 1.10) against closed-form beam
+// theory: a clamped cantilever under a uniform transverse load and under a tip load
+// (Euler-Bernoulli), and a clamped rod under an end torque (Saint-Venant torsion). Equilibrium is
+// reached with the implicit stepper (docs/model.md 1.10) using a huge time step, so the inertia
+// term m/dt^2 is negligible.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -19,9 +20,9 @@
 namespace flagella {
 namespace {
 
-// Rod of the benchmarks: VPS tail material (spec 8.1), 10 cm long.
+// Rod of the benchmarks: VPS tail material (docs/model.md 8.1), 10 cm long.
 constexpr double kRodLength = 0.1;  // L [m]
-// Stiffnesses recomputed here from spec 1.4, independently of RodMaterial.
+// Stiffnesses recomputed here from docs/model.md 1.4, independently of RodMaterial.
 constexpr double kYoungsModulus = 1.2e6;  // E [Pa]
 constexpr double kPoissonRatio = 0.5;     // nu
 constexpr double kRadius = 3.2e-3;        // r0 [m]

@@ -83,8 +83,8 @@ int main(int argc, char** argv) {
 
   BeamOptions beam;
   Shortcuts beam_short;
-  CLI::App* beam_cmd =
-      app.add_subcommand("beam", "Euler-Bernoulli beam model (spec 6) for a config's design");
+  CLI::App* beam_cmd = app.add_subcommand(
+      "beam", "Euler-Bernoulli beam model (docs/model.md 6) for a config's design");
   addCommon(beam_cmd, beam);
   beam_short.add(beam_cmd);
   beam_cmd->add_option("--regime", beam.regime, "LB | NLB | NLB-no-head | all")

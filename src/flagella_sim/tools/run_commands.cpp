@@ -229,8 +229,8 @@ int beamCommand(const BeamOptions& o) {
   if (o.regime == "NLB" || o.regime == "all") regimes.push_back(beam::BeamRegime::kNonlinear);
   if (o.regime == "NLB-no-head" || o.regime == "all")
     regimes.push_back(beam::BeamRegime::kNonlinearWithoutHead);
-  std::printf("beam model (spec 6), %s, n = %d, omega_T = %.3f rpm\n", o.config.c_str(), d.n_tails,
-              units::radPerSecToRpm(omega));
+  std::printf("beam model (docs/model.md 6), %s, n = %d, omega_T = %.3f rpm\n", o.config.c_str(),
+              d.n_tails, units::radPerSecToRpm(omega));
   std::printf("%-14s %12s %12s %14s %12s %14s\n", "model", "omega_h rpm", "omega_t rpm", "v mm/s",
               "w(L)/L", "F_p/tail N");
   for (beam::BeamRegime regime : regimes) {

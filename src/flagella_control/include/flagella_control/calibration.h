@@ -1,4 +1,4 @@
-// The robot's response to its single binary input (spec 7.3), as the planner and the
+// The robot's response to its single binary input (docs/model.md 7.3), as the planner and the
 // path-following controller use it: steady motion at constant +omega and -omega, and the net
 // motion of periodic switching. Estimated from the simulator (or measured data) by
 // flagella_calibrate and stored as YAML.

@@ -1,4 +1,4 @@
-// Estimates the binary-input calibration (spec 7.3) from the core simulator: three fresh
+// Estimates the binary-input calibration (docs/model.md 7.3) from the core simulator: three fresh
 // sessions (constant +omega, constant -omega, periodic switching) driven through SimSession and
 // measured from its snapshots in the output frame (z up).
 #pragma once

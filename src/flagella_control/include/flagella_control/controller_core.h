@@ -36,7 +36,7 @@ class ControllerCore {
   virtual const char* name() const = 0;
 };
 
-/// Open-loop binary switching (spec 7.3): +omega for `positive_duration`, then -omega for
+/// Open-loop binary switching (docs/model.md 7.3): +omega for `positive_duration`, then -omega for
 /// `negative_duration`, repeating from the first step. Equal halves advance along a line;
 /// unequal halves steer a large circle.
 class PeriodicSwitchController : public ControllerCore {

@@ -1,5 +1,5 @@
 // Heading of the robot in the horizontal plane of the output frame (z up): the azimuth of the
-// head axis (spec 7.1: psi is the azimuth of the projection of ahat; ahat is the IMU body z).
+// head axis (docs/model.md 7.1: psi is the azimuth of the projection of ahat, the IMU body z).
 #pragma once
 
 namespace flagella::control {

@@ -1,6 +1,6 @@
 // The two path-following controller cores (ControllerCore contract: fixed step, no heap
 // allocation in step(), binary motor output):
-//  - ScheduleController: open loop, replays a planned switching schedule (spec 7.3).
+//  - ScheduleController: open loop, replays a planned switching schedule (docs/model.md 7.3).
 //  - PathFollowingController: closed loop on an estimate of the head pose (IMU yaw at a high
 //    rate, a noisy camera position fix at a low rate), line-of-sight guidance to the path and
 //    duty-cycle switching; see the README's "Path following" section.

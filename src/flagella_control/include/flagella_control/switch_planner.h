@@ -1,7 +1,7 @@
-// Open-loop planning (spec 7.3): a prescribed path becomes a switching schedule of the single
-// binary input, computed offline from the calibration. Straight lines are periodic switching,
-// corners hold one sign for the turn angle (the sides are shortened so that the arc the robot
-// sweeps while turning lands it on the next side), arcs use unequal half-periods.
+// Open-loop planning (docs/model.md 7.3): a prescribed path becomes a switching schedule of the
+// single binary input, computed offline from the calibration. Straight lines are periodic
+// switching, corners hold one sign for the turn angle (the sides are shortened so that the arc the
+// robot sweeps while turning lands it on the next side), arcs use unequal half-periods.
 #pragma once
 
 #include <cstdint>
@@ -34,8 +34,8 @@ struct SwitchSchedule {
 };
 
 /// Half-period offset epsilon that makes a switching period of length T turn by `turn` [rad]:
-/// +omega for T/2 + epsilon, then -omega for T/2 - epsilon (spec 7.3; the calibrated drift of
-/// equal halves is removed as well).
+/// +omega for T/2 + epsilon, then -omega for T/2 - epsilon (docs/model.md 7.3; the calibrated drift
+/// of equal halves is removed as well).
 double halfPeriodOffset(const BinaryCalibration& calibration, double turn);
 
 /// Heading at the start of a switching period that makes the net advance go along `direction`.

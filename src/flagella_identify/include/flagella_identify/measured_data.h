@@ -18,7 +18,7 @@ namespace identify {
 
 constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
 
-/// The steady-state outputs a table may hold (spec 7.1), SI units.
+/// The steady-state outputs a table may hold (docs/model.md 7.1), SI units.
 /// "v" [m/s], "omega_h" [rad/s], "omega_t" [rad/s], "omega_yr" [rad/s], "R_yr" [m].
 const std::vector<std::string>& steadyOutputNames();
 

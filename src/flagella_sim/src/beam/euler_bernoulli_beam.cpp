@@ -1,4 +1,4 @@
-// Robot-level balances of the beam model (spec 6): closed-form LB and the numerical solve
+// Robot-level balances of the beam model (docs/model.md 6): closed-form LB and the numerical solve
 // (nested bracketed root finds for omega_t and v_h around the tail BVP of flagellum_bvp.cpp).
 #include "flagella_sim/beam/euler_bernoulli_beam.h"
 
@@ -33,7 +33,7 @@ void requireNonNegative(double value, const std::string& field, const std::strin
                                 describe(value) + ")");
 }
 
-// Stokes-law head drag coefficients (spec 3.1).
+// Stokes-law head drag coefficients (docs/model.md 3.1).
 struct HeadDrag {
   double translational = 0.0;  // C_t 6 pi mu a
   double rotational = 0.0;     // C_r 8 pi mu a^3
@@ -117,7 +117,8 @@ struct SpeedResult {
   std::string message;
 };
 
-// Force balance n_t F_p(omega_t, v_h) = C_t 6 pi mu a v_h for v_h at fixed omega_t (spec 6).
+// Force balance n_t F_p(omega_t, v_h) = C_t 6 pi mu a v_h for v_h at fixed omega_t (docs/model.md
+// 6).
 SpeedResult solveSpeed(const BeamDesign& design, double omega_t, BeamRegime regime,
                        const BeamSolverOptions& options, const HeadDrag& head) {
   std::string failure;
@@ -156,7 +157,7 @@ SpeedResult solveSpeed(const BeamDesign& design, double omega_t, BeamRegime regi
 void fillFromLoads(const BeamDesign& design, double omega_t, const SpeedResult& speed,
                    BeamSolution& sol) {
   sol.omega_t = omega_t;
-  sol.omega_h = sol.omega_T - omega_t;  // spec 6: omega_T = omega_h + omega_t
+  sol.omega_h = sol.omega_T - omega_t;  // docs/model.md 6: omega_T = omega_h + omega_t
   sol.speed = speed.v_h;
   sol.tip_deflection = speed.loads.tip_deflection;
   sol.relative_tip_deflection = sol.tip_deflection / design.tail_length;
@@ -180,7 +181,8 @@ std::string toString(BeamRegime regime) {
 
 double bendingStiffness(const BeamDesign& design) {
   const double r0 = design.tail_radius;
-  return design.youngs_modulus * M_PI * r0 * r0 * r0 * r0 / 4.0;  // spec 6: EI = E pi r0^4/4
+  return design.youngs_modulus * M_PI * r0 * r0 * r0 * r0 /
+         4.0;  // docs/model.md 6: EI = E pi r0^4/4
 }
 
 void validateBeamDesign(const BeamDesign& design) {
@@ -226,21 +228,22 @@ BeamSolution linearBeamClosedForm(const BeamDesign& design, double omega_T) {
 
   BeamSolution sol;
   sol.omega_T = omega_T;
-  // spec 6 (LB): omega_h = n eta_p R_d^2 L omega_t / (8 pi C_r mu a^3)
+  // docs/model.md 6 (LB): omega_h = n eta_p R_d^2 L omega_t / (8 pi C_r mu a^3)
   const double spin_ratio = n * eta.eta_p * Rd * Rd * L / head.rotational;
   sol.omega_t = omega_T / (1.0 + spin_ratio);
   sol.omega_h = spin_ratio * sol.omega_t;
   const double V = sol.omega_t * Rd;
   const double p = eta.eta_p * V;
-  sol.lateral_force = p * L;                 // spec 6: F_x = eta_p omega_t R_d L
-  sol.tip_deflection = p * L4 / (8.0 * EI);  // spec 6: w(L) = p L^4 / (8 EI)
+  sol.lateral_force = p * L;                 // docs/model.md 6: F_x = eta_p omega_t R_d L
+  sol.tip_deflection = p * L4 / (8.0 * EI);  // docs/model.md 6: w(L) = p L^4 / (8 EI)
   sol.relative_tip_deflection = sol.tip_deflection / L;
-  // spec 6 / [CORR-14]: v_h = n (eta_p - eta_t) eta_p R_d^2 L^4 omega_t^2 / (8 EI (6 pi C_t mu a
+  // docs/model.md 6 / [CORR-14]: v_h = n (eta_p - eta_t) eta_p R_d^2 L^4 omega_t^2 / (8 EI (6 pi
+  // C_t mu a
   // + n eta_t L)); the n eta_t L term is dropped in the dissertation's simplification.
   const double axial = design.include_tail_axial_drag ? n * eta.eta_t * L : 0.0;
   sol.speed = n * (eta.eta_p - eta.eta_t) * eta.eta_p * Rd * Rd * L4 * sol.omega_t * sol.omega_t /
               (8.0 * EI * (head.translational + axial));
-  // spec 6: F_p = (eta_p - eta_t) omega_t R_d w(L) - eta_t v_h L
+  // docs/model.md 6: F_p = (eta_p - eta_t) omega_t R_d w(L) - eta_t v_h L
   sol.propulsive_force = (eta.eta_p - eta.eta_t) * V * sol.tip_deflection -
                          (design.include_tail_axial_drag ? eta.eta_t * sol.speed * L : 0.0);
   sol.converged = true;
@@ -262,7 +265,7 @@ BeamSolution solveBeamModel(const BeamDesign& design, double omega_T, BeamRegime
   }
   const HeadDrag head = headDrag(design);
   std::string failure;
-  // spec 6 torque balance: n_t R_d F_x(omega_t, v_h) = C_r 8 pi mu a^3 (omega_T - omega_t)
+  // docs/model.md 6 torque balance: n_t R_d F_x(omega_t, v_h) = C_r 8 pi mu a^3 (omega_T - omega_t)
   auto torque_residual = [&](double omega_t) {
     const SpeedResult speed = solveSpeed(design, omega_t, regime, options, head);
     if (!speed.converged && failure.empty())

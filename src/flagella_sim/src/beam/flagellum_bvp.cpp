@@ -1,4 +1,4 @@
-// One clamped tail of the beam model (spec 6): EI w'''' = p(w'), w(0) = w'(0) = 0,
+// One clamped tail of the beam model (docs/model.md 6): EI w'''' = p(w'), w(0) = w'(0) = 0,
 // w''(L) = w'''(L) = 0, solved by RK4 shooting on (w''(0), w'''(0)) with Newton. The Jacobian comes
 // from the variational equations, integrated with the same RK4 steps, so it is the exact
 // derivative of the discrete shooting map and Newton converges quadratically.
@@ -20,7 +20,7 @@ using State = Eigen::Matrix<double, kStateSize, 1>;
 
 constexpr int kMaxLineSearchHalvings = 30;
 
-// Per-length RFT loads on the tail as functions of the slope s = w' (spec 6).
+// Per-length RFT loads on the tail as functions of the slope s = w' (docs/model.md 6).
 struct TailLoads {
   bool linear = false;
   double eta_t = 0.0, eta_p = 0.0;
@@ -28,7 +28,7 @@ struct TailLoads {
   double v_lateral = 0.0;  // head speed seen by p
   double v_axial = 0.0;    // head speed seen by q
 
-  // spec 6: p = eta_p V + (eta_t - eta_p)(V s^2 + v_h s)/(1 + s^2); LB: p = eta_p V.
+  // docs/model.md 6: p = eta_p V + (eta_t - eta_p)(V s^2 + v_h s)/(1 + s^2); LB: p = eta_p V.
   double p(double s) const {
     if (linear) return eta_p * V;
     return eta_p * V + (eta_t - eta_p) * (V * s * s + v_lateral * s) / (1.0 + s * s);
@@ -38,7 +38,7 @@ struct TailLoads {
     const double denom = 1.0 + s * s;
     return (eta_t - eta_p) * (2.0 * V * s + v_lateral * (1.0 - s * s)) / (denom * denom);
   }
-  // spec 6: q = (eta_p - eta_t)(V s + v_h)/(1 + s^2) - eta_p v_h; LB drops the s^2.
+  // docs/model.md 6: q = (eta_p - eta_t)(V s + v_h)/(1 + s^2) - eta_p v_h; LB drops the s^2.
   double q(double s) const {
     const double denom = linear ? 1.0 : 1.0 + s * s;
     return (eta_p - eta_t) * (V * s + v_axial) / denom - eta_p * v_axial;
@@ -55,7 +55,7 @@ TailLoads makeTailLoads(const BeamDesign& design, double omega_t, double v_h, Be
   TailLoads loads;
   loads.eta_t = eta.eta_t;
   loads.eta_p = eta.eta_p;
-  loads.V = omega_t * design.disc_radius;  // spec 6: V = omega_t R_d
+  loads.V = omega_t * design.disc_radius;  // docs/model.md 6: V = omega_t R_d
   loads.linear = regime == BeamRegime::kLinear;
   const bool head_moves = regime != BeamRegime::kNonlinearWithoutHead;
   loads.v_lateral = head_moves ? v_h : 0.0;
@@ -104,7 +104,7 @@ class ShootingProblem {
     return J;
   }
 
-  // Shooting values of the linear (constant-load) solution, spec 6: w''(0) = p L^2/(2EI),
+  // Shooting values of the linear (constant-load) solution, docs/model.md 6: w''(0) = p L^2/(2EI),
   // w'''(0) = -p L/EI.
   Eigen::Vector2d linearGuess() const {
     const double p0 = loads_.p(0.0);
@@ -122,7 +122,7 @@ class ShootingProblem {
     d[kW] = s[kSlope];
     d[kSlope] = s[kCurvature];
     d[kCurvature] = s[kShear];
-    d[kShear] = p / EI_;           // spec 6: EI w'''' = p
+    d[kShear] = p / EI_;           // docs/model.md 6: EI w'''' = p
     d[kLateral] = p;               // F_x = int p dy
     d[kThrust] = loads_.q(slope);  // F_p = int q dy
     const double dp = loads_.dpds(slope) / EI_;

@@ -16,7 +16,7 @@ Mat3 skew(const Vec3& a) {
 }
 
 Vec3 parallelTransport(const Vec3& u, const Vec3& a, const Vec3& b) {
-  // spec 1.3: P(u) = (u.a) b + (u.n1) n2 + (u.bhat) bhat
+  // docs/model.md 1.3: P(u) = (u.a) b + (u.n1) n2 + (u.bhat) bhat
   const Vec3 bvec = a.cross(b);
   const double norm = bvec.norm();
   if (norm < kParallelTolerance) return u;

@@ -12,12 +12,12 @@ ComOffset::ComOffset(double head_mass) : Effect(kName, comOffsetEffect().paramet
 }
 
 namespace {
-// m_h = rho_m pi a^2 L_head (spec 5) unless the config gives it (then any in-range value serves
-// until the configured one is set).
+// m_h = rho_m pi a^2 L_head (docs/model.md 5) unless the config gives it (then any in-range value
+// serves until the configured one is set).
 double defaultHeadMass(const EffectBuildContext& b) {
   if (b.spec.hasParameter("head_mass")) return ComOffset::kMinHeadMass;
   const double a = b.robot.head_radius;
-  const double m = b.medium.density() * M_PI * a * a * b.robot.head_length;  // spec 5
+  const double m = b.medium.density() * M_PI * a * a * b.robot.head_length;  // docs/model.md 5
   if (!(m >= ComOffset::kMinHeadMass && m <= ComOffset::kMaxHeadMass))
     throw ConfigError(rangeMessage("effects.com_offset.head_mass (default rho_m pi a^2 L_head)", m,
                                    ComOffset::kMinHeadMass, ComOffset::kMaxHeadMass, "kg") +

@@ -15,7 +15,7 @@ double integratedLateralCoefficient(double onset_over_radius, double sharpness) 
   double sum = 0.0;
   for (int i = 0; i < kQuadraturePoints; ++i) {
     const double phi = 2.0 * M_PI * i / kQuadraturePoints;
-    const double y = std::sin(phi);  // height over R of the surface point (spec 3.3)
+    const double y = std::sin(phi);  // height over R of the surface point (docs/model.md 3.3)
     sum += std::sin(phi) / (1.0 + std::exp(sharpness * (y - onset_over_radius)));
   }
   return -sum * 2.0 * M_PI / kQuadraturePoints;
@@ -39,7 +39,7 @@ EffectPtr makeInterfaceLateralForce(const EffectBuildContext& b) {
       throw ConfigError(
           "effects.interface_lateral_force.C_yr is computed in mode 'integrated'; remove it or use "
           "mode 'fitted'");
-    // spec 3.3: C_yr from the viscosity profile integral I(h/R, k)
+    // docs/model.md 3.3: C_yr from the viscosity profile integral I(h/R, k)
     const InterfaceViscosityProfile& p = b.medium.profile;
     c_yr = integratedLateralCoefficient(p.onset_height / p.length_scale, p.sharpness);
   }
@@ -89,7 +89,7 @@ void InterfaceLateralForce::addForce(const EffectContext& ctx, VecX& force,
   const Vec3 axis = e / len;
   const Vec3& up = ctx.medium.up;
   const double spin = ctx.rate(theta_dof_);
-  // spec 3.3 (Eq. 4.13): F = -C_yr mu0 R L_head (yhat x (Omega_h ahat))
+  // docs/model.md 3.3 (Eq. 4.13): F = -C_yr mu0 R L_head (yhat x (Omega_h ahat))
   const Vec3 direction = up.cross(axis);
   force.segment<3>(3 * center_) += -c * spin * direction;
   if (!jacobian) return;

@@ -7,7 +7,8 @@ namespace flagella {
 double InterfaceViscosityProfile::factor(double height) const {
   if (!enabled) return 1.0;
   const double y = height - reference_height;
-  return 1.0 / (1.0 + std::exp(sharpness * (y - onset_height) / length_scale));  // spec 3.3
+  return 1.0 /
+         (1.0 + std::exp(sharpness * (y - onset_height) / length_scale));  // docs/model.md 3.3
 }
 
 double InterfaceViscosityProfile::factorDerivative(double height) const {

@@ -23,7 +23,7 @@ RftCoefficients rftCoefficients(double viscosity, double tail_length, double tai
   if (log_term <= 0.5)
     throw std::invalid_argument("RFT needs a slender tail: ln(" + toString(form) +
                                 ") = " + std::to_string(log_term) + " must exceed 0.5");
-  // spec 2 (Eq. 2.10/3.3/4.17)
+  // docs/model.md 2 (Eq. 2.10/3.3/4.17)
   return {2.0 * M_PI * viscosity / (log_term - 0.5), 4.0 * M_PI * viscosity / (log_term + 0.5)};
 }
 

@@ -12,8 +12,9 @@ const EffectDescriptor& rftDragEffect() {
     EffectDescriptor e;
     e.name = RftDrag::kName;
     e.description = "resistive force theory on the tails, granular or viscous";
-    e.options = {{"log_form", "2L/r0", {"2L/r0", "L/r0"}, "logarithm of the RFT coefficients"},
-                 {"use_interface_profile", "false", {}, "per-node viscosity from medium.interface_profile"}};
+    e.options = {
+        {"log_form", "2L/r0", {"2L/r0", "L/r0"}, "logarithm of the RFT coefficients"},
+        {"use_interface_profile", "false", {}, "per-node viscosity from medium.interface_profile"}};
     e.parameters = {{"drag_scale", 1.0, 0.0, 1e3, "", "multiplier on both RFT drag coefficients"}};
     e.make = [](const EffectBuildContext& c) {
       return std::make_unique<RftDrag>(parseRftLogForm(c.spec.option("log_form")),
@@ -34,7 +35,7 @@ void RftDrag::attach(const RodNetwork& net) {
     for (int e : edges) length += net.rest_lengths[e];
     const double radius = net.edge_radius[edges.front()];
     for (size_t i = 0; i < tail.size(); ++i) {
-      // spec 2 [ASSUMED]: the root node (disc rim) gets half the first tail edge
+      // docs/model.md 2 [ASSUMED]: the root node (disc rim) gets half the first tail edge
       const double before = i > 0 ? net.rest_lengths[edges[i - 1]] : 0.0;
       const double after = i + 1 < tail.size() ? net.rest_lengths[edges[i]] : 0.0;
       nodes_.push_back({tail[i], i > 0 ? tail[i - 1] : -1, i + 1 < tail.size() ? tail[i + 1] : -1,
@@ -57,7 +58,8 @@ void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jaco
   const Mat3 I = Mat3::Identity();
   for (const TailNode& n : nodes_) {
     const Vec3 x = nodePosition(ctx.q, n.node);
-    // spec 2: node tangent s = (t^{j-1} + t^j)/2 normalised; single edge at the ends [CORR-4]
+    // docs/model.md 2: node tangent s = (t^{j-1} + t^j)/2 normalised; single edge at the ends
+    // [CORR-4]
     Vec3 s = Vec3::Zero();
     Vec3 t_in = Vec3::Zero(), t_out = Vec3::Zero();
     double len_in = 0.0, len_out = 0.0;
@@ -86,7 +88,8 @@ void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jaco
     const double eta_t = scale * c.eta_t, eta_p = scale * c.eta_p;
     const Vec3 v = ctx.nodeVelocity(n.node);
     const Mat3 A = eta_p * I + (eta_t - eta_p) * that * that.transpose();
-    const Vec3 F = -n.voronoi_length * A * v;  // spec 2: F = -l [eta_p I + (eta_t - eta_p) t t^T] v
+    const Vec3 F =
+        -n.voronoi_length * A * v;  // docs/model.md 2: F = -l [eta_p I + (eta_t - eta_p) t t^T] v
     force.segment<3>(3 * n.node) += F;
     if (!jacobian) continue;
 
@@ -96,7 +99,7 @@ void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jaco
       const double dfactor = ctx.medium.profile.factorDerivative(height);
       d_self += (F / mu_factor) * (dfactor * ctx.medium.up).transpose();
     }
-    // Geometric part (spec 2): dF/dthat, dthat/ds, ds/dx.
+    // Geometric part (docs/model.md 2): dF/dthat, dthat/ds, ds/dx.
     const Mat3 dF_dthat =
         -n.voronoi_length * (eta_t - eta_p) * (that.dot(v) * I + that * v.transpose());
     const Mat3 dthat_ds = (I - that * that.transpose()) / s_norm;

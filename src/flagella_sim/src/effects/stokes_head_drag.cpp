@@ -40,8 +40,8 @@ void StokesHeadDrag::attach(const RodNetwork& net) {
 void StokesHeadDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const {
   const double mu = ctx.viscosity;
   const double a = params_[radius_];
-  const double trans = params_[c_t_] * 6.0 * M_PI * mu * a;             // spec 3.1
-  const double rot = params_[c_r_] * 8.0 * M_PI * mu * std::pow(a, 3);  // spec 3.1
+  const double trans = params_[c_t_] * 6.0 * M_PI * mu * a;             // docs/model.md 3.1
+  const double rot = params_[c_r_] * 8.0 * M_PI * mu * std::pow(a, 3);  // docs/model.md 3.1
   force.segment<3>(3 * node_) -= trans * ctx.nodeVelocity(node_);
   force(theta_dof_) -= rot * ctx.rate(theta_dof_);
   if (!jacobian) return;

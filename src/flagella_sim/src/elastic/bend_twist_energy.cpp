@@ -10,7 +10,7 @@ namespace {
 using EdgeVector = Eigen::Matrix<double, 8, 1>;
 using EdgeMatrix = Eigen::Matrix<double, 8, 8>;
 
-// Chain rule from edge space to node space: e = x_c - x_p, f = x_q - x_c (spec 1.5).
+// Chain rule from edge space to node space: e = x_c - x_p, f = x_q - x_c (docs/model.md 1.5).
 SpringVector nodeGradient(const EdgeVector& g) {
   SpringVector out;
   out.segment<3>(0) = -g.segment<3>(0);
@@ -21,8 +21,8 @@ SpringVector nodeGradient(const EdgeVector& g) {
   return out;
 }
 
-// spec 1.5: H_pp = g_ee, H_pc = -g_ee + g_ef, H_pq = -g_ef, H_cc = g_ee - g_ef - g_fe + g_ff,
-// H_cq = g_ef - g_ff, H_qq = g_ff; theta columns map like the gradient.
+// docs/model.md 1.5: H_pp = g_ee, H_pc = -g_ee + g_ef, H_pq = -g_ef, H_cc = g_ee - g_ef - g_fe +
+// g_ff, H_cq = g_ef - g_ff, H_qq = g_ff; theta columns map like the gradient.
 SpringMatrix nodeHessian(const EdgeMatrix& h) {
   SpringMatrix out;
   const Mat3 ee = h.block<3, 3>(0, 0), ef = h.block<3, 3>(0, 3), fe = h.block<3, 3>(3, 0),
@@ -56,7 +56,7 @@ struct CurvatureDerivatives {
   EdgeMatrix hess1, hess2, hess_tau;
 };
 
-// spec 1.5: gradients and Hessians of kappa1, kappa2 and tau in edge space.
+// docs/model.md 1.5: gradients and Hessians of kappa1, kappa2 and tau in edge space.
 CurvatureDerivatives curvatureDerivatives(const SpringGeometry& g, bool with_hessian) {
   CurvatureDerivatives d;
   const double chi = 1.0 + g.te.dot(g.tf);
@@ -120,7 +120,7 @@ CurvatureDerivatives curvatureDerivatives(const SpringGeometry& g, bool with_hes
   d.hess2(6, 6) = 0.5 * g.kb.dot(g.m1e);
   d.hess2(7, 7) = 0.5 * g.kb.dot(g.m1f);
 
-  // Position-theta cross blocks (spec 1.5), for theta_E (column 6) and theta_F (column 7).
+  // Position-theta cross blocks (docs/model.md 1.5), for theta_E (column 6) and theta_F (column 7).
   const Vec3* m1[2] = {&g.m1e, &g.m1f};
   const Vec3* m2[2] = {&g.m2e, &g.m2f};
   for (int k = 0; k < 2; ++k) {
@@ -158,14 +158,14 @@ SpringEnergyTerms bendTwistTerms(const SpringGeometry& g, const BendTwistSpring&
   const double dk1 = g.kappa1 - s.kappa_bar1;
   const double dk2 = g.kappa2 - s.kappa_bar2;
   const double dtau = g.tau - s.tau_bar;
-  // spec 1.4: E_b = EI/(2 l_c) (dk1^2 + dk2^2), E_t = GJ/(2 l_c) dtau^2
+  // docs/model.md 1.4: E_b = EI/(2 l_c) (dk1^2 + dk2^2), E_t = GJ/(2 l_c) dtau^2
   out.energy = 0.5 * bend_k * (dk1 * dk1 + dk2 * dk2) + 0.5 * twist_k * dtau * dtau;
   const CurvatureDerivatives d = curvatureDerivatives(g, with_hessian);
   const EdgeVector grad_edge =
       bend_k * (dk1 * d.grad1 + dk2 * d.grad2) + twist_k * dtau * d.grad_tau;
   out.gradient = nodeGradient(grad_edge);
   if (with_hessian) {
-    // spec 1.5: Hess E_b = (EI/l_c)(g1 g1^T + g2 g2^T + dk1 H1 + dk2 H2), likewise E_t
+    // docs/model.md 1.5: Hess E_b = (EI/l_c)(g1 g1^T + g2 g2^T + dk1 H1 + dk2 H2), likewise E_t
     EdgeMatrix hess_edge = bend_k * (dk1 * d.hess1 + dk2 * d.hess2) + twist_k * dtau * d.hess_tau;
     hess_edge.noalias() += bend_k * d.grad1.lazyProduct(d.grad1.transpose());
     hess_edge.noalias() += bend_k * d.grad2.lazyProduct(d.grad2.transpose());
@@ -214,7 +214,7 @@ void addBendTwistGradientHessian(const RodNetwork& net, const VecX& q,
     const SpringEnergyTerms terms =
         bendTwistTerms(springGeometry(net, s, q, frames, static_cast<int>(i)), s, hessian);
     const SpringDofMap map = springDofMap(net, s);
-    // spec 1.6: dE/dtheta^g = s_g dE/dtheta_loc; mixed entries carry both signs
+    // docs/model.md 1.6: dE/dtheta^g = s_g dE/dtheta_loc; mixed entries carry both signs
     for (int a = 0; a < 11; ++a) gradient(map.index[a]) += map.sign[a] * terms.gradient(a);
     if (!hessian) continue;
     hessian->addDense<11>(map.index, map.sign, terms.hessian);

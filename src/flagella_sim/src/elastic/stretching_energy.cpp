@@ -7,8 +7,8 @@ double stretchingEnergy(const RodNetwork& net, const VecX& q) {
   for (const StretchSpring& s : net.stretch_springs) {
     const EdgeDef& e = net.edges[s.edge];
     const double len = (nodePosition(q, e.end_node) - nodePosition(q, e.start_node)).norm();
-    const double strain = len / s.rest_length - 1.0;         // spec 1.3
-    energy += 0.5 * s.EA * strain * strain * s.rest_length;  // spec 1.4
+    const double strain = len / s.rest_length - 1.0;         // docs/model.md 1.3
+    energy += 0.5 * s.EA * strain * strain * s.rest_length;  // docs/model.md 1.4
   }
   return energy;
 }
@@ -20,13 +20,13 @@ void addStretchingGradientHessian(const RodNetwork& net, const VecX& q, VecX& gr
     const Vec3 edge = nodePosition(q, e.end_node) - nodePosition(q, e.start_node);
     const double len = edge.norm();
     const Vec3 t = edge / len;
-    // spec 1.5: dE/dx_b = EA (l/lbar - 1) t = -dE/dx_a
+    // docs/model.md 1.5: dE/dx_b = EA (l/lbar - 1) t = -dE/dx_a
     const Vec3 g = s.EA * (len / s.rest_length - 1.0) * t;
     const int a = 3 * e.start_node, b = 3 * e.end_node;
     gradient.segment<3>(a) -= g;
     gradient.segment<3>(b) += g;
     if (!hessian) continue;
-    // spec 1.5: K = EA [ (1/lbar - 1/l) I + (1/l) t t^T ]
+    // docs/model.md 1.5: K = EA [ (1/lbar - 1/l) I + (1/l) t t^T ]
     const Mat3 K = s.EA * ((1.0 / s.rest_length - 1.0 / len) * Mat3::Identity() +
                            (1.0 / len) * t * t.transpose());
     hessian->addBlock(a, a, K);

@@ -29,7 +29,7 @@ SummaryMetrics summarize(const std::vector<TrajectorySample>& samples, const Sum
   const double span = b.time - a.time;
   if (span <= 0.0) return m;
 
-  // spec 7.1: omega = turns / time (angle turned in the window)
+  // docs/model.md 7.1: omega = turns / time (angle turned in the window)
   m.omega_h_signed = (b.head_angle - a.head_angle) / span;
   m.omega_t_signed = (b.tail_angle - a.tail_angle) / span;
   m.omega_h = std::abs(m.omega_h_signed);
@@ -45,7 +45,8 @@ SummaryMetrics summarize(const std::vector<TrajectorySample>& samples, const Sum
   for (size_t i = first; i < samples.size(); ++i) {
     const TrajectorySample& s = samples[i];
     t.push_back(s.time);
-    // spec 7.1: v = slope of the displacement along the initial axis (forward = head first)
+    // docs/model.md 7.1: v = slope of the displacement along the initial axis (forward = head
+    // first)
     forward.push_back(-(s.head_position - samples.front().head_position).dot(in.initial_axis));
     horizontal.emplace_back(s.head_position.dot(e1), s.head_position.dot(e2));
     const Vec3 axis_h = s.head_axis - s.head_axis.dot(up) * up;
@@ -66,13 +67,13 @@ SummaryMetrics summarize(const std::vector<TrajectorySample>& samples, const Sum
   m.axis_path_angle = angle_count > 0 ? angle_sum / angle_count : 0.0;
   m.net_speed = (b.head_position - a.head_position).norm() / span;
   m.speed = fitLine(t, forward).slope;
-  m.yaw_rate = fitLine(t, unwrapAngles(yaw)).slope;  // spec 7.1: omega_yr = d psi/dt
-  const CircleFit circle = fitCircle(horizontal);    // spec 7.1: R_yr
+  m.yaw_rate = fitLine(t, unwrapAngles(yaw)).slope;  // docs/model.md 7.1: omega_yr = d psi/dt
+  const CircleFit circle = fitCircle(horizontal);    // docs/model.md 7.1: R_yr
   m.circle_valid = circle.valid;
   m.circle_radius = circle.valid ? circle.radius : 0.0;
   if (in.C_r > 0.0 && in.head_radius > 0.0 && m.omega_h > 0.0) {
     m.efficiency = 3.0 * in.C_t * m.speed /
-                   (4.0 * in.C_r * in.head_radius * m.omega_h);  // spec 7.1 (Eq. 2.18)
+                   (4.0 * in.C_r * in.head_radius * m.omega_h);  // docs/model.md 7.1 (Eq. 2.18)
     m.efficiency_valid = true;
   }
   m.newton_iterations = samples.back().newton_iterations;

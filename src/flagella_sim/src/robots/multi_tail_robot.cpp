@@ -23,7 +23,7 @@ RodNetwork buildMultiTailRobot(const MultiTailGeometry& g) {
   NetworkBuilder b;
   const RodMaterial& m = g.tail_material;
   const double h = g.head_edge_length;
-  // spec 8.1: x_0 = (0,0,-a), x_1 = 0, x_2 = (0,0,+a); tails extend toward +z
+  // docs/model.md 8.1: x_0 = (0,0,-a), x_1 = 0, x_2 = (0,0,+a); tails extend toward +z
   const int x0 = b.addNode(Vec3(0, 0, -h));
   const int x1 = b.addNode(Vec3(0, 0, 0));
   const int x2 = b.addNode(Vec3(0, 0, h));
@@ -35,7 +35,8 @@ RodNetwork buildMultiTailRobot(const MultiTailGeometry& g) {
   parts.joint_node = x2;
   parts.head_edge = e0;
   parts.shaft_edge = e1;
-  parts.motor_spring = b.addBendTwistSpring(e0, e1, m, g.rigid_factor);  // spec 1.9: motor at x_1
+  parts.motor_spring =
+      b.addBendTwistSpring(e0, e1, m, g.rigid_factor);  // docs/model.md 1.9: motor at x_1
   parts.head_nodes = {x0, x1, x2};
 
   std::vector<int> spokes;
@@ -47,7 +48,8 @@ RodNetwork buildMultiTailRobot(const MultiTailGeometry& g) {
     b.addBendTwistSpring(e1, spokes.back(), m, g.rigid_factor);
     parts.head_nodes.push_back(r);
   }
-  // spec 8.1: spoke pairs at x_2 (the first spoke of each pair is flipped, spec 1.6)
+  // docs/model.md 8.1: spoke pairs at x_2 (the first spoke of each pair is flipped,
+  // docs/model.md 1.6)
   if (g.n_tails == 2) b.addBendTwistSpring(spokes[0], spokes[1], m, g.rigid_factor);
   if (g.n_tails >= 3)
     for (int k = 0; k < g.n_tails; ++k)
@@ -66,7 +68,8 @@ RodNetwork buildMultiTailRobot(const MultiTailGeometry& g) {
       nodes.push_back(b.addNode(root_pos + Vec3(0, 0, j * dl)));
       edges.push_back(b.addEdge(nodes[j - 1], nodes[j], tail));
     }
-    // spec 8.1 [ASSUMED]: the tail root is glued into the plate, so the root spring is rigid
+    // docs/model.md 8.1 [ASSUMED]: the tail root is glued into the plate, so the root spring is
+    // rigid
     b.addBendTwistSpring(spokes[k], edges.front(), m, g.rigid_factor);
     for (size_t j = 0; j + 1 < edges.size(); ++j)
       b.addBendTwistSpring(edges[j], edges[j + 1], tail);

@@ -46,7 +46,8 @@ int NetworkBuilder::addBendTwistSpring(int edge_e, int edge_f, const RodMaterial
   s.edge_e = edge_e;
   s.edge_f = edge_f;
   s.node_c = shared;
-  // spec 1.6: s_g = +1 if the stored direction is the required local one (E into c, F out of c)
+  // docs/model.md 1.6: s_g = +1 if the stored direction is the required local one (E into c, F out
+  // of c)
   s.sign_e = E.end_node == shared ? 1 : -1;
   s.sign_f = F.start_node == shared ? 1 : -1;
   s.node_p = E.end_node == shared ? E.start_node : E.end_node;
@@ -78,10 +79,10 @@ RodNetwork NetworkBuilder::build(int root_edge) const {
     net.stretch_springs.push_back({j, edge_stiffness_factor_[j] * edge_materials_[j].EA(), len});
   }
   net.bend_twist_springs = springs_;
-  for (BendTwistSpring& s : net.bend_twist_springs)  // spec 1.4: undeformed Voronoi length
+  for (BendTwistSpring& s : net.bend_twist_springs)  // docs/model.md 1.4: undeformed Voronoi length
     s.voronoi_length = 0.5 * (net.rest_lengths[s.edge_e] + net.rest_lengths[s.edge_f]);
 
-  // spec 1.8: m_i = rho A l_i (Voronoi), I_j = 1/2 rho A |ebar| r0^2
+  // docs/model.md 1.8: m_i = rho A l_i (Voronoi), I_j = 1/2 rho A |ebar| r0^2
   net.lumped_mass = VecX::Zero(net.ndof());
   for (int j = 0; j < ne; ++j) {
     const RodMaterial& m = edge_materials_[j];
@@ -94,7 +95,7 @@ RodNetwork NetworkBuilder::build(int root_edge) const {
     net.lumped_mass.segment<3>(3 * node).setConstant(mass);
   net.fixed_dof.assign(net.ndof(), false);
 
-  // Natural strains from the undeformed configuration at t = 0 (spec 1.4).
+  // Natural strains from the undeformed configuration at t = 0 (docs/model.md 1.4).
   const VecX q0 = net.restDofs();
   const ReferenceFrames frames = initialFrames(net, q0, root_edge);
   for (size_t i = 0; i < net.bend_twist_springs.size(); ++i) {

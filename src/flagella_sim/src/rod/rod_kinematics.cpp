@@ -22,7 +22,7 @@ std::vector<Vec3> unitTangents(const RodNetwork& net, const VecX& q) {
 }
 
 // Reference twist of spring s measured directly (no history): signed angle from the
-// parallel-transported local d1 of E to the local d1 of F, about t_f (spec 1.3).
+// parallel-transported local d1 of E to the local d1 of F, about t_f (docs/model.md 1.3).
 double directReferenceTwist(const BendTwistSpring& s, const ReferenceFrames& fr) {
   const Vec3 te = s.sign_e * fr.tangent[s.edge_e];
   const Vec3 tf = s.sign_f * fr.tangent[s.edge_f];
@@ -57,7 +57,7 @@ ReferenceFrames initialFrames(const RodNetwork& net, const VecX& q, int root_edg
     for (int node : {net.edges[h].start_node, net.edges[h].end_node}) {
       for (int g : incident[node]) {
         if (done[g]) continue;
-        // Orient h into the shared node and g out of it, transport there (spec 1.6, 1.7).
+        // Orient h into the shared node and g out of it, transport there (docs/model.md 1.6, 1.7).
         const double sh = net.edges[h].end_node == node ? 1.0 : -1.0;
         const double sg = net.edges[g].start_node == node ? 1.0 : -1.0;
         const Vec3 d1g_local =
@@ -89,14 +89,14 @@ ReferenceFrames transportFrames(const RodNetwork& net, const VecX& q,
   fr.d1.resize(ne);
   fr.d2.resize(ne);
   for (int j = 0; j < ne; ++j) {
-    // spec 1.7: d1(iterate) = P_{t(t_k) -> t(iterate)} d1(t_k), d2 = t x d1
+    // docs/model.md 1.7: d1(iterate) = P_{t(t_k) -> t(iterate)} d1(t_k), d2 = t x d1
     const Vec3 d1 = parallelTransport(previous.d1[j], previous.tangent[j], fr.tangent[j]);
     fr.d1[j] = (d1 - d1.dot(fr.tangent[j]) * fr.tangent[j]).normalized();
     fr.d2[j] = fr.tangent[j].cross(fr.d1[j]);
   }
   fr.reference_twist.resize(net.bend_twist_springs.size());
   for (size_t s = 0; s < net.bend_twist_springs.size(); ++s) {
-    // spec 1.3: rotate P(d1_E) by the previous m_ref about t_f, add the small signed angle
+    // docs/model.md 1.3: rotate P(d1_E) by the previous m_ref about t_f, add the small signed angle
     const BendTwistSpring& sp = net.bend_twist_springs[s];
     const Vec3 te = sp.sign_e * fr.tangent[sp.edge_e];
     const Vec3 tf = sp.sign_f * fr.tangent[sp.edge_f];
@@ -121,7 +121,7 @@ SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& sp, 
   g.len_f = g.f.norm();
   g.te = g.e / g.len_e;
   g.tf = g.f / g.len_f;
-  // Local material frames (spec 1.6): m1_loc = s m1, m2_loc = m2, theta_loc = s theta.
+  // Local material frames (docs/model.md 1.6): m1_loc = s m1, m2_loc = m2, theta_loc = s theta.
   const double theta_e = sp.sign_e * q(net.thetaIndex(sp.edge_e));
   const double theta_f = sp.sign_f * q(net.thetaIndex(sp.edge_f));
   const Vec3 d1e = sp.sign_e * fr.d1[sp.edge_e];
@@ -134,12 +134,12 @@ SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& sp, 
   g.m2e = -se * d1e + ce * d2e;
   g.m1f = cf * d1f + sf * d2f;
   g.m2f = -sf * d1f + cf * d2f;
-  // spec 1.3: kb = 2 (t_e x t_f) / (1 + t_e.t_f), kappa1 = 1/2 (m2e+m2f).kb, kappa2 = -1/2
+  // docs/model.md 1.3: kb = 2 (t_e x t_f) / (1 + t_e.t_f), kappa1 = 1/2 (m2e+m2f).kb, kappa2 = -1/2
   // (m1e+m1f).kb
   g.kb = 2.0 * g.te.cross(g.tf) / (1.0 + g.te.dot(g.tf));
   g.kappa1 = 0.5 * (g.m2e + g.m2f).dot(g.kb);
   g.kappa2 = -0.5 * (g.m1e + g.m1f).dot(g.kb);
-  g.tau = theta_f - theta_e + fr.reference_twist[spring_index];  // spec 1.3 [CORR-9]
+  g.tau = theta_f - theta_e + fr.reference_twist[spring_index];  // docs/model.md 1.3 [CORR-9]
   return g;
 }
 

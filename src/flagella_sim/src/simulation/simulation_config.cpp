@@ -128,7 +128,7 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
   o.extrapolate_initial_guess = r.flag("extrapolate_initial_guess", o.extrapolate_initial_guess);
   o.trace = r.flag("trace", o.trace);
   r.rejectUnknown();
-  // Scale-aware convergence test (spec 1.10): forces against EI/L^2, moments against EI/L.
+  // Scale-aware convergence test (docs/model.md 1.10): forces against EI/L^2, moments against EI/L.
   const double EI = c.geometry.tail_material.EI();
   const double L = c.geometry.tail_length;
   o.force_scale = EI / (L * L);

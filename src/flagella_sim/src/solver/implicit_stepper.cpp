@@ -13,7 +13,7 @@ namespace flagella {
 
 namespace {
 
-// Routes effect Jacobian entries dF/dq into the Newton Jacobian as -dF/dq (spec 1.10).
+// Routes effect Jacobian entries dF/dq into the Newton Jacobian as -dF/dq (docs/model.md 1.10).
 class NegatingSink : public JacobianSink {
  public:
   explicit NegatingSink(SparseAssembler& a) : assembler_(a) {}
@@ -89,7 +89,7 @@ double ImplicitStepper::scaledResidual(const VecX& f) const {
 }
 
 void ImplicitStepper::pinFixedDofs(SparseMatrix& J) const {
-  // Dirichlet DOFs: zero row and column, unit diagonal (spec 1.10).
+  // Dirichlet DOFs: zero row and column, unit diagonal (docs/model.md 1.10).
   for (int col = 0; col < J.outerSize(); ++col)
     for (SparseMatrix::InnerIterator it(J, col); it; ++it)
       if (net_.fixed_dof[it.row()] || net_.fixed_dof[col])
@@ -105,7 +105,7 @@ double ImplicitStepper::stepNorm(const VecX& dq) const {
 
 double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt,
                                  const ReferenceFrames& frames, bool with_jacobian) {
-  // spec 1.10: f = (m/dt)((q - q_k)/dt - qdot_k) + dE/dq - F_ext,
+  // docs/model.md 1.10: f = (m/dt)((q - q_k)/dt - qdot_k) + dE/dq - F_ext,
   //            J = m/dt^2 + d2E/dq2 - dF_ext/dq
   const VecX& q0 = start.q;
   const VecX& v0 = start.qdot;
@@ -221,7 +221,7 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& mot
         << ") at t = " << t_next << " s";
     throw SolverFailure(msg.str());
   }
-  // spec 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
+  // docs/model.md 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
   const double offset = state.motor_twist_offset + omega * dt;
   Attempt a = solveStep(trial, dt, offset, viscosity, false);
   int damped_retries = 0;
@@ -305,7 +305,7 @@ MotorLoad ImplicitStepper::motorLoad(const RodState& state, double omega_cmd,
       bendTwistTerms(springGeometry(net_, spring, state.q, state.frames, index), spring, false);
   const SpringDofMap map = springDofMap(net_, spring);
   const int head_theta = net_.thetaIndex(net_.parts.head_edge);
-  for (int a = 9; a < 11; ++a)  // the spring's local twist DOFs (spec 1.6)
+  for (int a = 9; a < 11; ++a)  // the spring's local twist DOFs (docs/model.md 1.6)
     if (map.index[a] == head_theta) load.head_moment -= map.sign[a] * terms.gradient(a);
   load.torque = (omega_cmd >= 0.0 ? -1.0 : 1.0) * load.head_moment;  // along the command
   return load;

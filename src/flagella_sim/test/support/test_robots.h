@@ -7,7 +7,7 @@
 
 namespace flagella::testing {
 
-/// Tail-like material of the granular robots (spec 8.1): VPS, r0 = 3.2 mm.
+/// Tail-like material of the granular robots (docs/model.md 8.1): VPS, r0 = 3.2 mm.
 RodMaterial vpsMaterial();
 
 /// Straight rod along +z from the origin, `edges` equal edges over `length`.

@@ -1,7 +1,7 @@
 // The motor: one component of the simulation state. Commands go in (a schedule from the config
 // or a controller, or set-points from outside through a validating gate with failsafe); the
-// natural-twist rate of the motor spring comes out (spec 1.9), shaped by the torque-speed laws of
-// effects such as dc_motor. The stepper integrates that rate into the motor's natural twist
+// natural-twist rate of the motor spring comes out (docs/model.md 1.9), shaped by the torque-speed
+// laws of effects such as dc_motor. The stepper integrates that rate into the motor's natural twist
 // (RodState::motor_twist_offset); nothing else keeps a copy of the motor's state.
 #pragma once
 
@@ -46,7 +46,7 @@ class Motor {
   /// The command for the (sub)step ending at `t_next` [rad/s] (may be non-finite: the stepper
   /// reports that as a failure).
   double commandAt(double t_next) const;
-  /// The natural-twist rate for a command under `load` (spec 1.9).
+  /// The natural-twist rate for a command under `load` (docs/model.md 1.9).
   double speed(double command, const MotorLoad& load) const;
 
   // ---- what was applied (the stepper records every accepted (sub)step)

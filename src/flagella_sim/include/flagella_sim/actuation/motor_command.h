@@ -1,5 +1,5 @@
 // Sources of the motor speed omega_T(t) that drives the natural twist of the motor spring
-// (spec 1.9). Controllers plug in through CallbackMotor.
+// (docs/model.md 1.9). Controllers plug in through CallbackMotor.
 #pragma once
 
 #include <functional>
@@ -23,7 +23,7 @@ class ConstantMotor : public MotorCommand {
   double omega_;
 };
 
-/// Binary +/-omega schedule (spec 7.3): +omega for `positive_duration`, then -omega for
+/// Binary +/-omega schedule (docs/model.md 7.3): +omega for `positive_duration`, then -omega for
 /// `negative_duration`, repeating from `start_time`. Unequal durations steer large circles.
 class BinaryMotor : public MotorCommand {
  public:

@@ -1,10 +1,10 @@
-// Euler–Bernoulli beam model of a multi-tail robot in a resistive medium (spec 6, Ch.3).
+// Euler–Bernoulli beam model of a multi-tail robot in a resistive medium (docs/model.md 6, Ch.3).
 //
 // Each tail is a cantilever clamped on the spinning plate at radius R_d. It is loaded by RFT drag
-// (spec 2) and satisfies EI w'''' = p(w') with w(0) = w'(0) = 0 and w''(L) = w'''(L) = 0. The
-// nonlinearity of the "small-slope elastica" lives only in the loads p, q through w'. The tail
-// forces are balanced against the Stokes-law head drag (spec 3.1, 6), with the motor constraint
-// omega_T = omega_h + omega_t. All rates and speeds are magnitudes [CORR-15].
+// (docs/model.md 2) and satisfies EI w'''' = p(w') with w(0) = w'(0) = 0 and w''(L) = w'''(L) = 0.
+// The nonlinearity of the "small-slope elastica" lives only in the loads p, q through w'. The tail
+// forces are balanced against the Stokes-law head drag (docs/model.md 3.1, 6), with the motor
+// constraint omega_T = omega_h + omega_t. All rates and speeds are magnitudes [CORR-15].
 #pragma once
 
 #include <string>
@@ -14,7 +14,7 @@
 
 namespace flagella::beam {
 
-/// Robot and medium parameters of the beam model (spec 6, 8.1, 8.2). SI units.
+/// Robot and medium parameters of the beam model (docs/model.md 6, 8.1, 8.2). SI units.
 struct BeamDesign {
   int n_tails = 0;              ///< n_t, number of tails (>= 1)
   double tail_length = 0.0;     ///< L [m]
@@ -27,12 +27,12 @@ struct BeamDesign {
   double viscosity = 0.0;       ///< mu [Pa s]
   RftLogForm log_form = RftLogForm::kTwoLengthOverRadius;
   /// Keep the tail's drag due to the head speed in the thrust load q (the eta_t v_h L term of the
-  /// linear force balance, spec 6 / [CORR-14]). false = the dissertation's simplification, which
-  /// sets v_h = 0 inside q (v_h still enters the lateral load p in the kNonlinear regime).
+  /// linear force balance, docs/model.md 6 / [CORR-14]). false = the dissertation's simplification,
+  /// which sets v_h = 0 inside q (v_h still enters the lateral load p in the kNonlinear regime).
   bool include_tail_axial_drag = true;
 };
 
-/// LB, NLB and NLB w/o head of spec 6.
+/// LB, NLB and NLB w/o head of docs/model.md 6.
 enum class BeamRegime {
   kLinear,                ///< drop the w'^2 terms: p = eta_p V
   kNonlinear,             ///< full loads p(w'), q(w')
@@ -61,8 +61,8 @@ struct FlagellumLoads {
   std::string message;  ///< reason for non-convergence (empty when converged)
 };
 
-/// Solves the tail BVP EI w'''' = p(w') (spec 6) by RK4 shooting with Newton on w''(0), w'''(0).
-/// omega_t >= 0 [rad/s]; v_h [m/s] is the head speed toward -y.
+/// Solves the tail BVP EI w'''' = p(w') (docs/model.md 6) by RK4 shooting with Newton on w''(0),
+/// w'''(0). omega_t >= 0 [rad/s]; v_h [m/s] is the head speed toward -y.
 FlagellumLoads solveFlagellum(const BeamDesign& design, double omega_t, double v_h,
                               BeamRegime regime, const BeamSolverOptions& options = {});
 
@@ -81,16 +81,16 @@ struct BeamSolution {
   std::string message;
 };
 
-/// Solves the torque, force and motor balances of spec 6 numerically (nested bracketed root finds
-/// for omega_t and v_h around the shooting BVP). Every regime, kLinear included, uses the BVP.
-/// omega_T >= 0 [rad/s].
+/// Solves the torque, force and motor balances of docs/model.md 6 numerically (nested bracketed
+/// root finds for omega_t and v_h around the shooting BVP). Every regime, kLinear included, uses
+/// the BVP. omega_T >= 0 [rad/s].
 BeamSolution solveBeamModel(const BeamDesign& design, double omega_T, BeamRegime regime,
                             const BeamSolverOptions& options = {});
 
-/// Closed-form LB solution of spec 6 (honours include_tail_axial_drag).
+/// Closed-form LB solution of docs/model.md 6 (honours include_tail_axial_drag).
 BeamSolution linearBeamClosedForm(const BeamDesign& design, double omega_T);
 
-/// EI = E pi r0^4 / 4 [N m^2] (spec 6).
+/// EI = E pi r0^4 / 4 [N m^2] (docs/model.md 6).
 double bendingStiffness(const BeamDesign& design);
 
 /// Throws std::invalid_argument naming the offending field and its allowed range.

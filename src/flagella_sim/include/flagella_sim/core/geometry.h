@@ -8,11 +8,12 @@ namespace flagella {
 /// Cross-product matrix [a]x, so that skew(a) * b == a.cross(b).
 Mat3 skew(const Vec3& a);
 
-/// Parallel transport of u from unit tangent a to unit tangent b (spec 1.3).
+/// Parallel transport of u from unit tangent a to unit tangent b (docs/model.md 1.3).
 /// Returns u unchanged when a and b are (nearly) parallel.
 Vec3 parallelTransport(const Vec3& u, const Vec3& a, const Vec3& b);
 
-/// Signed angle from u to v about axis n: atan2(|u x v|, u.v) * sign(n.(u x v)) (spec 1.3).
+/// Signed angle from u to v about axis n: atan2(|u x v|, u.v) * sign(n.(u x v))
+/// (docs/model.md 1.3).
 double signedAngle(const Vec3& u, const Vec3& v, const Vec3& n);
 
 /// Rotates v about the unit axis k by angle (Rodrigues' formula).

@@ -1,5 +1,5 @@
 // DC-motor torque-speed curve (model extension for identification): the commanded omega_T is
-// the no-load speed, and the motor turns the natural twist (spec 1.9) at
+// the no-load speed, and the motor turns the natural twist (docs/model.md 1.9) at
 // omega = omega_cmd (1 - tau_load/tau_stall), or 0 once tau_load >= tau_stall (stall).
 // tau_load is the motor spring's moment on the head edge measured along the command's sign,
 // taken at the start of the step (MotorLoad: a one-step lag).

@@ -27,7 +27,7 @@ struct EffectContext {
   /// Viscosity during this (sub)step [Pa s]: the medium's mu0 times the effects' factors.
   double viscosity;
 
-  /// Implicit velocity of DOF i: (q_i - q_i(t_k))/dt (spec 1.10).
+  /// Implicit velocity of DOF i: (q_i - q_i(t_k))/dt (docs/model.md 1.10).
   double rate(int i) const { return (q(i) - q_start(i)) / dt; }
   Vec3 nodeVelocity(int node) const {
     return (q.segment<3>(3 * node) - q_start.segment<3>(3 * node)) / dt;
@@ -35,8 +35,8 @@ struct EffectContext {
 };
 
 /// The motor's load at the start of a step, for effects that shape the applied motor speed
-/// (spec 1.9). One-step lag: it is evaluated at q(t_k), so the speed of the step t_k -> t_{k+1}
-/// does not depend on the unknown q(t_{k+1}).
+/// (docs/model.md 1.9). One-step lag: it is evaluated at q(t_k), so the speed of the step t_k ->
+/// t_{k+1} does not depend on the unknown q(t_{k+1}).
 struct MotorLoad {
   double head_moment = 0.0;  ///< generalised force of the motor spring alone on theta^0 [N m]
   /// Load torque along the sign of the command, -sign(omega_cmd) head_moment [N m]: positive
@@ -85,7 +85,7 @@ class Effect {
   /// all effects to every effect as EffectContext::viscosity (the Medium stays constant).
   virtual double viscosityFactor(double /*time*/) const { return 1.0; }
   /// Torque-speed law of the motor (Motor chains these): the speed applied to the natural
-  /// twist (spec 1.9) during the (sub)step ending at
+  /// twist (docs/model.md 1.9) during the (sub)step ending at
   /// load.time, given the speed `omega` requested upstream (the command, or the previous
   /// effect's result) [rad/s].
   virtual double motorSpeed(double omega, const MotorLoad& /*load*/) const { return omega; }

@@ -1,5 +1,5 @@
 // Gravity minus buoyancy on every node's lumped mass: F_i = (1 - rho_m/rho_body) m_i g.
-// The Jacobian is zero because the forces are constant vectors (spec 5).
+// The Jacobian is zero because the forces are constant vectors (docs/model.md 5).
 #pragma once
 
 #include "flagella_sim/effects/effect.h"

@@ -1,6 +1,6 @@
-// Soft restraint of the head's height and pitch (spec 3.3 [ASSUMED]): the interface robot floats,
-// and buoyancy and the vertical restoring force are not modelled, so a slow vertical drift or
-// tilt can be held by E = 1/2 k_h ((x_1 - x_1(0)).up)^2 + 1/2 k_p (t^0 . up)^2.
+// Soft restraint of the head's height and pitch (docs/model.md 3.3 [ASSUMED]): the interface robot
+// floats, and buoyancy and the vertical restoring force are not modelled, so a slow vertical drift
+// or tilt can be held by E = 1/2 k_h ((x_1 - x_1(0)).up)^2 + 1/2 k_p (t^0 . up)^2.
 #pragma once
 
 #include "flagella_sim/effects/effect.h"

@@ -1,4 +1,4 @@
-// Rotation-induced lateral force on a head spinning at an air-liquid interface (spec 3.3):
+// Rotation-induced lateral force on a head spinning at an air-liquid interface (docs/model.md 3.3):
 // F = -C_yr mu0 R L_head (yhat x (Omega_h ahat)) on x_1. C_yr is either the fitted constant or
 // the integral of the sigmoid viscosity profile over the head surface.
 #pragma once
@@ -11,7 +11,7 @@ namespace flagella {
 /// The registry entry (effect_list.def).
 const EffectDescriptor& interfaceLateralForceEffect();
 
-/// -I(h/R, k) with I = integral_0^{2pi} sin(phi) mu(R sin phi)/mu0 dphi (spec 3.3).
+/// -I(h/R, k) with I = integral_0^{2pi} sin(phi) mu(R sin phi)/mu0 dphi (docs/model.md 3.3).
 double integratedLateralCoefficient(double onset_over_radius, double sharpness);
 
 class InterfaceLateralForce : public Effect {

@@ -1,5 +1,5 @@
 // The surrounding medium: bulk viscosity (or granular RFT coefficient), density, gravity and
-// an optional depth-dependent viscosity near an air-liquid interface (spec 2, 3.3).
+// an optional depth-dependent viscosity near an air-liquid interface (docs/model.md 2, 3.3).
 #pragma once
 
 #include "flagella_sim/core/parameter_set.h"
@@ -7,7 +7,8 @@
 
 namespace flagella {
 
-/// mu(y) = mu0 / (1 + exp(k (y - h)/R)), y = height above the reference level (spec 3.3, Eq. 4.7).
+/// mu(y) = mu0 / (1 + exp(k (y - h)/R)), y = height above the reference level (docs/model.md 3.3,
+/// Eq. 4.7).
 struct InterfaceViscosityProfile {
   bool enabled = false;
   double reference_height = 0.0;  ///< world height of the head axis at rest [m]

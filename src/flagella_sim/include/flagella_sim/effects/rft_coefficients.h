@@ -1,4 +1,4 @@
-// Resistive-force-theory drag coefficients of a slender filament (spec 2).
+// Resistive-force-theory drag coefficients of a slender filament (docs/model.md 2).
 #pragma once
 
 #include <string>
@@ -20,7 +20,7 @@ struct RftCoefficients {
   double eta_p = 0.0;  ///< normal drag per length per speed [N s/m^2]
 };
 
-/// spec 2: eta_t = 2 pi mu / (ln(arg) - 1/2), eta_p = 4 pi mu / (ln(arg) + 1/2)
+/// docs/model.md 2: eta_t = 2 pi mu / (ln(arg) - 1/2), eta_p = 4 pi mu / (ln(arg) + 1/2)
 RftCoefficients rftCoefficients(double viscosity, double tail_length, double tail_radius,
                                 RftLogForm form);
 

@@ -1,6 +1,6 @@
-// Resistive force theory on the tail nodes, granular or viscous (spec 2), with the exact
+// Resistive force theory on the tail nodes, granular or viscous (docs/model.md 2), with the exact
 // Jacobian (velocity and geometric parts) and an optional per-node viscosity from the
-// interface profile (spec 3.3).
+// interface profile (docs/model.md 3.3).
 #pragma once
 
 #include <vector>

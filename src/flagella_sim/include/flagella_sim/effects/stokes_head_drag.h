@@ -1,4 +1,4 @@
-// Stokes-law drag and torque on the rigid head (spec 3.1):
+// Stokes-law drag and torque on the rigid head (docs/model.md 3.1):
 // F = -C_t 6 pi mu a v_h on x_1, M = -C_r 8 pi mu a^3 Omega_h on theta^0.
 #pragma once
 

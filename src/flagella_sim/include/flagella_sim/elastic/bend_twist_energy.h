@@ -1,4 +1,4 @@
-// Bending and twisting energy of the bending-twisting springs (spec 1.4, 1.5, 1.6).
+// Bending and twisting energy of the bending-twisting springs (docs/model.md 1.4, 1.5, 1.6).
 #pragma once
 
 #include <Eigen/Core>
@@ -19,21 +19,21 @@ struct SpringEnergyTerms {
   SpringMatrix hessian = SpringMatrix::Zero();
 };
 
-/// Evaluates E_b + E_t of one spring at its local geometry (spec 1.4, 1.5).
+/// Evaluates E_b + E_t of one spring at its local geometry (docs/model.md 1.4, 1.5).
 SpringEnergyTerms bendTwistTerms(const SpringGeometry& g, const BendTwistSpring& spring,
                                  bool with_hessian);
 
 double bendTwistEnergy(const RodNetwork& net, const VecX& q, const ReferenceFrames& frames);
 
 /// A spring whose natural twist is not the network's: the motor spring, driven by the motor
-/// (spec 1.9). spring < 0: none.
+/// (docs/model.md 1.9). spring < 0: none.
 struct NaturalTwistOverride {
   int spring = -1;
   double tau_bar = 0.0;
 };
 
 /// Adds the gradient (and Hessian if non-null) of all bending-twisting springs, mapping the
-/// local representation back to global DOFs with the orientation signs (spec 1.6).
+/// local representation back to global DOFs with the orientation signs (docs/model.md 1.6).
 void addBendTwistGradientHessian(const RodNetwork& net, const VecX& q,
                                  const ReferenceFrames& frames, VecX& gradient,
                                  SparseAssembler* hessian, const NaturalTwistOverride& twist = {});

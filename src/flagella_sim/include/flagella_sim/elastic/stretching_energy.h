@@ -1,4 +1,4 @@
-// Stretching energy of every edge: E_s = 1/2 EA eps^2 |ebar| (spec 1.4, 1.5).
+// Stretching energy of every edge: E_s = 1/2 EA eps^2 |ebar| (docs/model.md 1.4, 1.5).
 #pragma once
 
 #include "flagella_sim/core/sparse_assembler.h"

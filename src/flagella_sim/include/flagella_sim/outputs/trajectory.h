@@ -1,4 +1,4 @@
-// Time series of a run (spec 7.1 quantities per sample) and its steady-window summary.
+// Time series of a run (docs/model.md 7.1 quantities per sample) and its steady-window summary.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -24,14 +24,14 @@ struct TrajectorySample {
                              ///< unless an effect such as dc_motor modifies it)
   Vec3 head_velocity = Vec3::Zero();
   double yaw = 0.0;  ///< azimuth of the forward direction (-t^0) about the world vertical [rad]
-  double yaw_rate = 0.0;       ///< its instantaneous rate [rad/s] (spec 7.1 omega_yr)
+  double yaw_rate = 0.0;       ///< its instantaneous rate [rad/s] (docs/model.md 7.1 omega_yr)
   long newton_iterations = 0;  ///< cumulative since t = 0
   long subdivided_steps = 0;   ///< cumulative count of steps that needed subdivision
   long damped_steps = 0;       ///< cumulative count of (sub)steps solved by the damped retry
   std::vector<Vec3> nodes;     ///< all node positions (only if recorded)
 };
 
-/// Steady-state metrics over the last part of a run (spec 7.1).
+/// Steady-state metrics over the last part of a run (docs/model.md 7.1).
 struct SummaryMetrics {
   double window_start = 0.0, window_end = 0.0;
   double omega_h = 0.0;  ///< |head spin| [rad/s] from the angle turned in the window

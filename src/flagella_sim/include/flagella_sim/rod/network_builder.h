@@ -1,5 +1,5 @@
 // Builds a RodNetwork from nodes, edges and springs: computes rest lengths, orientation signs,
-// Voronoi lengths, natural strains at t = 0 and lumped masses (spec 1.2-1.8).
+// Voronoi lengths, natural strains at t = 0 and lumped masses (docs/model.md 1.2-1.8).
 #pragma once
 
 #include <vector>
@@ -8,7 +8,7 @@
 
 namespace flagella {
 
-/// Cross-section and material of a rod segment (spec 1.4).
+/// Cross-section and material of a rod segment (docs/model.md 1.4).
 struct RodMaterial {
   double youngs_modulus = 0.0;  ///< E [Pa]
   double poisson_ratio = 0.5;   ///< nu
@@ -29,16 +29,16 @@ class NetworkBuilder {
   int addEdge(int start_node, int end_node, const RodMaterial& material,
               double stiffness_factor = 1.0);
   /// Adds a bending-twisting spring on two edges that share a node; the orientation signs
-  /// of spec 1.6 are worked out from the stored edge directions.
+  /// of docs/model.md 1.6 are worked out from the stored edge directions.
   int addBendTwistSpring(int edge_e, int edge_f, const RodMaterial& material,
                          double stiffness_factor = 1.0);
-  /// Overrides the lumped mass of one node (e.g. a heavier head, spec 1.8).
+  /// Overrides the lumped mass of one node (e.g. a heavier head, docs/model.md 1.8).
   void setNodeMass(int node, double mass);
 
   RobotParts& parts() { return parts_; }
   int numNodes() const { return static_cast<int>(positions_.size()); }
 
-  /// Finalises the network: rest lengths, natural strains, masses (spec 1.4, 1.8).
+  /// Finalises the network: rest lengths, natural strains, masses (docs/model.md 1.4, 1.8).
   RodNetwork build(int root_edge = 0) const;
 
  private:

@@ -1,5 +1,5 @@
 // Frames, material directors and per-spring strains of a rod network at a DOF vector
-// (spec 1.3, 1.6, 1.7).
+// (docs/model.md 1.3, 1.6, 1.7).
 #pragma once
 
 #include <vector>
@@ -11,15 +11,15 @@
 namespace flagella {
 
 /// Builds t = 0 frames by space-parallel transport along the tree from the root edge,
-/// and measures each spring's initial reference twist directly (spec 1.7).
+/// and measures each spring's initial reference twist directly (docs/model.md 1.7).
 ReferenceFrames initialFrames(const RodNetwork& net, const VecX& q, int root_edge = 0);
 
 /// Time-parallel transport of every reference frame from `previous` (at the start of the step)
-/// to the tangents of q, with the reference twist tracked incrementally (spec 1.3, 1.7).
+/// to the tangents of q, with the reference twist tracked incrementally (docs/model.md 1.3, 1.7).
 ReferenceFrames transportFrames(const RodNetwork& net, const VecX& q,
                                 const ReferenceFrames& previous);
 
-/// Local-representation quantities of one bending-twisting spring (spec 1.3, 1.6).
+/// Local-representation quantities of one bending-twisting spring (docs/model.md 1.3, 1.6).
 struct SpringGeometry {
   Vec3 e, f;                ///< local edge vectors (x_c - x_p, x_q - x_c)
   double len_e, len_f;      ///< |e|, |f|

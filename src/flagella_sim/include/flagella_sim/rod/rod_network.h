@@ -1,5 +1,5 @@
 // Topology, material and rest state of a discrete-elastic-rod network (spec section 1).
-// DOF layout (block ordering, spec 0): q = [x_0 .. x_{N-1}, theta^0 .. theta^{Ne-1}].
+// DOF layout (block ordering, docs/model.md 0): q = [x_0 .. x_{N-1}, theta^0 .. theta^{Ne-1}].
 #pragma once
 
 #include <string>
@@ -15,16 +15,16 @@ struct EdgeDef {
   int end_node = 0;
 };
 
-/// One stretching spring per edge (spec 1.2, 1.4).
+/// One stretching spring per edge (docs/model.md 1.2, 1.4).
 struct StretchSpring {
   int edge = 0;
   double EA = 0.0;           ///< axial stiffness E*pi*r0^2 [N]
   double rest_length = 0.0;  ///< |ebar| [m]
 };
 
-/// A bending-twisting spring on two edges E, F sharing node c (spec 1.2, 1.6).
+/// A bending-twisting spring on two edges E, F sharing node c (docs/model.md 1.2, 1.6).
 /// Locally E points into c (x_p -> x_c) and F out of c (x_c -> x_q); sign_e / sign_f are the
-/// orientation signs s_g of spec 1.6 (+1 if the stored edge already points that way).
+/// orientation signs s_g of docs/model.md 1.6 (+1 if the stored edge already points that way).
 struct BendTwistSpring {
   int edge_e = 0;
   int edge_f = 0;
@@ -35,10 +35,10 @@ struct BendTwistSpring {
   int node_q = 0;
   double EI = 0.0;              ///< bending stiffness [N m^2]
   double GJ = 0.0;              ///< twisting stiffness [N m^2]
-  double voronoi_length = 0.0;  ///< l_c = (|ebar^E| + |ebar^F|)/2, undeformed (spec 1.4)
+  double voronoi_length = 0.0;  ///< l_c = (|ebar^E| + |ebar^F|)/2, undeformed (docs/model.md 1.4)
   double kappa_bar1 = 0.0;      ///< natural material curvatures (set at t = 0)
   double kappa_bar2 = 0.0;
-  double tau_bar = 0.0;  ///< natural twist (time-varying for the motor spring, spec 1.9)
+  double tau_bar = 0.0;  ///< natural twist (time-varying for the motor spring, docs/model.md 1.9)
 };
 
 /// Named groups of nodes and edges that outputs, effects and messages refer to.
@@ -62,7 +62,7 @@ struct RodNetwork {
   std::vector<double> edge_radius;   ///< r0 per edge (used for inertia)
   std::vector<StretchSpring> stretch_springs;
   std::vector<BendTwistSpring> bend_twist_springs;
-  VecX lumped_mass;             ///< diagonal mass matrix, ndof entries (spec 1.8)
+  VecX lumped_mass;             ///< diagonal mass matrix, ndof entries (docs/model.md 1.8)
   std::vector<bool> fixed_dof;  ///< Dirichlet-fixed DOFs (clamps, gimbal), ndof entries
   RobotParts parts;
 

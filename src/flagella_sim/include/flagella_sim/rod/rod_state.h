@@ -1,4 +1,4 @@
-// The evolving state of a rod network at one instant (spec 1.1, 1.7).
+// The evolving state of a rod network at one instant (docs/model.md 1.1, 1.7).
 #pragma once
 
 #include <vector>

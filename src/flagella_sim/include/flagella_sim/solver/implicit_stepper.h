@@ -1,7 +1,7 @@
 // Fully implicit Euler step solved by Newton-Raphson on a sparse, generally non-symmetric
-// Jacobian (spec 1.10). The sparsity pattern and the LU symbolic analysis are reused across
-// iterations and steps. Failure strategy: a step whose Newton iteration does not converge (too
-// many iterations, a singular Jacobian, or a non-finite value) is retried once with a
+// Jacobian (docs/model.md 1.10). The sparsity pattern and the LU symbolic analysis are reused
+// across iterations and steps. Failure strategy: a step whose Newton iteration does not converge
+// (too many iterations, a singular Jacobian, or a non-finite value) is retried once with a
 // backtracking line search (NewtonOptions::damped_retry), then as two half steps, recursively up
 // to NewtonOptions::max_subdivision_depth; if that fails too, SolverFailure is thrown and the
 // state is left at the last accepted step.
@@ -53,8 +53,9 @@ class ImplicitStepper {
   /// laws (its record is discarded): for stepper-level tests without a Simulation.
   StepReport step(RodState& state, double dt, const MotorCommand& schedule);
 
-  /// The motor's load at `state` (the start of a step) for a command `omega_cmd` (spec 1.9):
-  /// the motor spring's generalised force on theta^0, with the natural twist of that state.
+  /// The motor's load at `state` (the start of a step) for a command `omega_cmd`
+  /// (docs/model.md 1.9): the motor spring's generalised force on theta^0, with the natural twist
+  /// of that state.
   MotorLoad motorLoad(const RodState& state, double omega_cmd, double time_next) const;
   /// The effects whose torque-speed law shapes the motor speed (Effect::shapesMotorSpeed).
   std::vector<const Effect*> motorSpeedLaws() const;

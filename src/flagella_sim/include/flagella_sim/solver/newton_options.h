@@ -1,11 +1,11 @@
-// Settings of the implicit Euler / Newton-Raphson step (spec 1.10).
+// Settings of the implicit Euler / Newton-Raphson step (docs/model.md 1.10).
 #pragma once
 
 namespace flagella {
 
 struct NewtonOptions {
   /// Converged when max_i |f_i| / scale_i < residual_tolerance, with scale_i = force_scale for
-  /// position rows and moment_scale for twist rows (a scale-aware test, spec 1.10).
+  /// position rows and moment_scale for twist rows (a scale-aware test, docs/model.md 1.10).
   /// Default 1e-4: on the shipped robots the summary metrics then differ from a 1e-9 solve by
   /// about 1e-5 relative, while Newton needs about half the iterations of 1e-6.
   double residual_tolerance = 1e-4;
