@@ -6,6 +6,7 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <stdexcept>
 #include <string>
