@@ -1,0 +1,38 @@
+// RSS solve for a polyline (model.md 4.3-4.4): factors Ablk once with partial-pivot LU (Ablk is
+// not symmetric, so Cholesky/LDLT would be wrong) and maps nodal velocities to forces.
+#pragma once
+
+#include <Eigen/LU>
+
+#include "flagella_sim/hydro/rss_matrix.h"
+
+namespace flagella::rss {
+
+class RssSolver {
+ public:
+  /// Validates (see validatePolyline; viscosity finite and > 0), assembles and factors Ablk.
+  RssSolver(const Polyline& nodes, double eps, double viscosity);
+
+  int nodeCount() const { return static_cast<int>(lengths_.size()); }
+  const MatX& matrix() const { return ablk_; }
+  const VecX& voronoiLengths() const { return lengths_; }
+  double eps() const { return eps_; }
+  double viscosity() const { return mu_; }
+
+  /// F = 8 pi mu Ablk^{-1} U: force densities on the fluid (3M, N/m) from nodal velocities U (3M).
+  VecX forceDensities(const VecX& velocities) const;
+  /// F_p^hyd = -l_p f_p: hydrodynamic forces on the nodes (model.md 4.3).
+  VecX nodalForces(const VecX& velocities) const;
+  /// K = 8 pi mu D Ablk^{-1}, D = diag(l_p I3), so that F^hyd = -K U (model.md 4.4 option B).
+  MatX dragMatrix() const;
+
+ private:
+  void checkSize(const VecX& velocities) const;
+
+  double eps_, mu_;
+  MatX ablk_;
+  VecX lengths_;
+  Eigen::PartialPivLU<MatX> lu_;
+};
+
+}  // namespace flagella::rss

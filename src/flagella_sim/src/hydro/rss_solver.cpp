@@ -1,0 +1,54 @@
+#include "flagella_sim/hydro/rss_solver.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "flagella_sim/core/units.h"
+
+namespace flagella::rss {
+namespace {
+
+double checkedViscosity(double mu) {
+  if (!(std::isfinite(mu) && mu > 0.0)) {
+    std::ostringstream msg;
+    msg << "viscosity must be finite and > 0, got " << mu;
+    throw std::invalid_argument(msg.str());
+  }
+  return mu;
+}
+
+}  // namespace
+
+RssSolver::RssSolver(const Polyline& nodes, double eps, double viscosity)
+    : eps_(eps),
+      mu_(checkedViscosity(viscosity)),
+      ablk_(assembleRssMatrix(nodes, eps)),
+      lengths_(rss::voronoiLengths(nodes)),
+      lu_(ablk_) {}
+
+void RssSolver::checkSize(const VecX& velocities) const {
+  if (velocities.size() != ablk_.rows()) {
+    throw std::invalid_argument("velocities: expected 3 * nodes = " + std::to_string(ablk_.rows()) +
+                                " entries, got " + std::to_string(velocities.size()));
+  }
+}
+
+VecX RssSolver::forceDensities(const VecX& velocities) const {
+  checkSize(velocities);
+  return 8.0 * units::pi * mu_ * lu_.solve(velocities);  // model.md 4.3
+}
+
+VecX RssSolver::nodalForces(const VecX& velocities) const {
+  VecX f = forceDensities(velocities);
+  for (int p = 0; p < nodeCount(); ++p) f.segment<3>(3 * p) *= -lengths_[p];  // model.md 4.3
+  return f;
+}
+
+MatX RssSolver::dragMatrix() const {
+  MatX k = 8.0 * units::pi * mu_ * lu_.inverse();  // model.md 4.4 option B
+  for (int p = 0; p < nodeCount(); ++p) k.middleRows<3>(3 * p) *= lengths_[p];
+  return k;
+}
+
+}  // namespace flagella::rss

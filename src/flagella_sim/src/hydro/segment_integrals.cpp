@@ -1,0 +1,91 @@
+#include "flagella_sim/hydro/segment_integrals.h"
+
+#include <cmath>
+
+namespace flagella::rss {
+namespace {
+
+// One end (alpha = 0 or 1) of the segment, as seen from the evaluation point.
+struct End {
+  double R;     // R_alpha
+  double rv;    // r_alpha . v
+  double G;     // Dl R_alpha + |r_alpha . v|: never suffers cancellation
+  bool behind;  // r_alpha . v < 0: Dl R + r.v would cancel (model.md 4.5)
+};
+
+End endAt(double r2, double rv, double dl, double eps) {
+  End e;
+  e.R = std::sqrt(r2 + eps * eps);
+  e.rv = rv;
+  e.G = dl * e.R + std::abs(rv);
+  e.behind = rv < 0.0;
+  return e;
+}
+
+// 1/(R (Dl R + r.v)) without its constant part: for r.v < 0, the rewrite of model.md 4.5,
+// Dl R + r.v = Dl^2 rho^2 / (Dl R - r.v) (rho^2 = |r_perp|^2 + eps^2), gives
+// 1/(R (Dl R + r.v)) = 2/(Dl rho^2) - 1/(R (Dl R - r.v)); the constant 2/(Dl rho^2) is added
+// separately so that it cancels exactly when both ends are behind.
+double inverseRgRegular(const End& e) { return (e.behind ? -1.0 : 1.0) / (e.R * e.G); }
+
+}  // namespace
+
+SegmentIntegrals segmentIntegrals(const Vec3& r_i, const Vec3& v, double eps) {
+  const double dl2 = v.squaredNorm();
+  const double dl = std::sqrt(dl2);
+  const double riv = r_i.dot(v);
+  const Vec3 r_perp = r_i - (riv / dl2) * v;  // the same for every alpha
+  const double rho2 = r_perp.squaredNorm() + eps * eps;
+  const End e0 = endAt(r_i.squaredNorm(), riv, dl, eps);
+  const End e1 = endAt((r_i + v).squaredNorm(), riv + dl2, dl, eps);
+  // r_alpha.v grows with alpha, so only e0 can be behind while e1 is not.
+  const bool mixed = e0.behind && !e1.behind;
+
+  SegmentIntegrals t;
+  // T_{0,-1} = (1/Dl) [ln(Dl R + r.v)]_0^1 (model.md 4.2), each log through the rewrite of 4.5.
+  double log_ratio;
+  if (mixed) {
+    log_ratio = std::log(e1.G * e0.G / (dl2 * rho2));
+  } else if (e0.behind) {
+    log_ratio = std::log(e0.G / e1.G);
+  } else {
+    log_ratio = std::log(e1.G / e0.G);
+  }
+  t.t0m1 = log_ratio / dl;
+  // T_{0,-3} = -[1/(R (Dl R + r.v))]_0^1 (model.md 4.2 with the rewrite of 4.5).
+  t.t0m3 = -(inverseRgRegular(e1) - inverseRgRegular(e0)) + (mixed ? 2.0 / (dl * rho2) : 0.0);
+  // [R]_0^1 = (R_1^2 - R_0^2)/(R_1 + R_0) = (2 r_i.v + Dl^2)/(R_1 + R_0): no cancellation.
+  const double dR = (2.0 * riv + dl2) / (e1.R + e0.R);
+  const double dInvR = -dR / (e0.R * e1.R);  // [1/R]_0^1
+  // Recursions of model.md 4.2 (integration by parts, d R/d alpha = r_alpha.v / R).
+  t.t1m1 = dR / dl2 - riv / dl2 * t.t0m1;
+  t.t1m3 = -dInvR / dl2 - riv / dl2 * t.t0m3;
+  t.t2m3 = -(1.0 / e1.R) / dl2 + t.t0m1 / dl2 - riv / dl2 * t.t1m3;
+  t.t3m3 = -(1.0 / e1.R) / dl2 + 2.0 * t.t1m1 / dl2 - riv / dl2 * t.t2m3;
+  return t;
+}
+
+SegmentBlocks segmentBlocks(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, double eps) {
+  const Vec3 r = xt - x_i;
+  const Vec3 v = x_i - x_ip1;
+  const SegmentIntegrals t = segmentIntegrals(r, v, eps);
+  const Mat3 rr = r * r.transpose();
+  const Mat3 rv_vr = r * v.transpose() + v * r.transpose();
+  const Mat3 vv = v * v.transpose();
+  const double e2 = eps * eps;
+  // A2 and A1' of model.md 4.2; A1 = A1' - A2 turns intercept/slope into nodal values.
+  SegmentBlocks b;
+  b.a2 = (t.t1m1 + e2 * t.t1m3) * Mat3::Identity() + t.t1m3 * rr + t.t2m3 * rv_vr + t.t3m3 * vv;
+  const Mat3 a1p =
+      (t.t0m1 + e2 * t.t0m3) * Mat3::Identity() + t.t0m3 * rr + t.t1m3 * rv_vr + t.t2m3 * vv;
+  b.a1 = a1p - b.a2;
+  return b;
+}
+
+Vec3 segmentVelocityTimes8PiMu(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, const Vec3& f_i,
+                               const Vec3& f_ip1, double eps) {
+  const SegmentBlocks b = segmentBlocks(xt, x_i, x_ip1, eps);
+  return (x_ip1 - x_i).norm() * (b.a1 * f_i + b.a2 * f_ip1);
+}
+
+}  // namespace flagella::rss
