@@ -1,7 +1,8 @@
-// Regularized Stokeslet segments (model.md 4) against independent truth: adaptive Gauss-Kronrod
-// quadrature of the regularized Stokeslet kernel (model.md 4.1; Cortez, Fauci & Medovikov 2005),
-// slender-body theory for a straight rod (Keller & Rubinow 1976) and for a rigid helix (Johnson
-// 1980, values of Rodenborn et al., PNAS 110 (2013) E338), reciprocity and handedness symmetry.
+// Regularized Stokeslet segments (docs/model.md 4) against independent truth: adaptive
+// Gauss-Kronrod quadrature of the regularized Stokeslet kernel (docs/model.md 4.1; Cortez, Fauci &
+// Medovikov 2005), slender-body theory for a straight rod (Keller & Rubinow 1976) and for a rigid
+// helix (Johnson 1980, values of Rodenborn et al., PNAS 110 (2013) E338), reciprocity and
+// handedness symmetry.
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -56,7 +57,7 @@ V integrate(const F& f, double rel_tol = 1e-13) {
   return gaussKronrod<V>(f, 0.0, 1.0, rel_tol * std::max(rough.norm(), 1e-300), 0);
 }
 
-// model.md 4.1 kernel times the linear force density of 4.2, over the segment x_i -> x_{i+1}:
+// docs/model.md 4.1 kernel times the linear force density of 4.2, over the segment x_i -> x_{i+1}:
 // 8 pi mu u(xt) = integral_0^1 S_eps(xt - x_alpha) f_alpha Dl d alpha.
 Vec3 quadratureVelocity(const Vec3& xt, const Vec3& xi, const Vec3& xj, const Vec3& fi,
                         const Vec3& fj, double eps) {
@@ -223,7 +224,7 @@ TEST(RssSolver, DragMatrixAndNodalForces) {
   const RssSolver solver(nodes, 0.04, mu);
   const MatX k = solver.dragMatrix();
   const VecX l = voronoiLengths(nodes);
-  // K Ablk = 8 pi mu D, D = diag(l_p I3) (model.md 4.4), without reusing the solver's inverse.
+  // K Ablk = 8 pi mu D, D = diag(l_p I3) (docs/model.md 4.4), without reusing the solver's inverse.
   MatX d = MatX::Zero(k.rows(), k.cols());
   for (int p = 0; p < solver.nodeCount(); ++p)
     d.block<3, 3>(3 * p, 3 * p) = l[p] * Mat3::Identity();

@@ -1,5 +1,5 @@
 // flagella_rss: regularized Stokeslet segment (RSS) tools; `resistance` gives the axial
-// resistance coefficients A, B, D of a rigid helix (model.md 4).
+// resistance coefficients A, B, D of a rigid helix (docs/model.md 4).
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <fstream>

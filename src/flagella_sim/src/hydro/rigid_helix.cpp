@@ -47,13 +47,13 @@ ResolvedHelix resolveHelix(const HelixSpec& in) {
   }
   ResolvedHelix h;
   h.spec = in;
-  h.spec.eps = in.eps.value_or(kSqrtE * in.filament_radius);  // model.md 4.5
+  h.spec.eps = in.eps.value_or(kSqrtE * in.filament_radius);  // docs/model.md 4.5
   requirePositive("eps", *h.spec.eps);
   h.spec.edge_length = in.edge_length.value_or(kDefaultEdgeLengthInRadii * in.filament_radius);
   const double edge = *h.spec.edge_length;
   requirePositive("edge_length", edge);
   const double turn = std::hypot(2.0 * units::pi * in.helix_radius, in.pitch);
-  h.arc_length = in.axial_length / in.pitch * turn;  // model.md 8.4.1
+  h.arc_length = in.axial_length / in.pitch * turn;  // docs/model.md 8.4.1
   if (!(edge < h.arc_length)) {
     fail("edge_length", "< helix arc length (" + str(h.arc_length) + ")", edge);
   }
@@ -102,7 +102,7 @@ HelixResistance helixResistance(const HelixSpec& spec, double viscosity) {
   const VecX f_trans = solver.forceDensities(u_trans);
   const VecX f_rot = solver.forceDensities(u_rot);
   const VecX& l = solver.voronoiLengths();
-  // Total force and torque on the fluid: sum of l_p f_p (model.md 4.3 nodal forces).
+  // Total force and torque on the fluid: sum of l_p f_p (docs/model.md 4.3 nodal forces).
   for (int p = 0; p < m; ++p) {
     const Vec3 ft = l[p] * f_trans.segment<3>(3 * p);
     const Vec3 fr = l[p] * f_rot.segment<3>(3 * p);

@@ -38,7 +38,7 @@ MatX assembleRssMatrix(const Polyline& nodes, double eps) {
     for (int a = 0; a + 1 < m; ++a) {
       const SegmentBlocks b = segmentBlocks(nodes[p], nodes[a], nodes[a + 1], eps);
       const double dl = (nodes[a + 1] - nodes[a]).norm();
-      ablk.block<3, 3>(3 * p, 3 * a) += dl * b.a1;  // model.md 4.3
+      ablk.block<3, 3>(3 * p, 3 * a) += dl * b.a1;  // docs/model.md 4.3
       ablk.block<3, 3>(3 * p, 3 * (a + 1)) += dl * b.a2;
     }
   }

@@ -36,17 +36,17 @@ void RssSolver::checkSize(const VecX& velocities) const {
 
 VecX RssSolver::forceDensities(const VecX& velocities) const {
   checkSize(velocities);
-  return 8.0 * units::pi * mu_ * lu_.solve(velocities);  // model.md 4.3
+  return 8.0 * units::pi * mu_ * lu_.solve(velocities);  // docs/model.md 4.3
 }
 
 VecX RssSolver::nodalForces(const VecX& velocities) const {
   VecX f = forceDensities(velocities);
-  for (int p = 0; p < nodeCount(); ++p) f.segment<3>(3 * p) *= -lengths_[p];  // model.md 4.3
+  for (int p = 0; p < nodeCount(); ++p) f.segment<3>(3 * p) *= -lengths_[p];  // docs/model.md 4.3
   return f;
 }
 
 MatX RssSolver::dragMatrix() const {
-  MatX k = 8.0 * units::pi * mu_ * lu_.inverse();  // model.md 4.4 option B
+  MatX k = 8.0 * units::pi * mu_ * lu_.inverse();  // docs/model.md 4.4 option B
   for (int p = 0; p < nodeCount(); ++p) k.middleRows<3>(3 * p) *= lengths_[p];
   return k;
 }

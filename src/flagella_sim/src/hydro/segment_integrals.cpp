@@ -10,7 +10,7 @@ struct End {
   double R;     // R_alpha
   double rv;    // r_alpha . v
   double G;     // Dl R_alpha + |r_alpha . v|: never suffers cancellation
-  bool behind;  // r_alpha . v < 0: Dl R + r.v would cancel (model.md 4.5)
+  bool behind;  // r_alpha . v < 0: Dl R + r.v would cancel (docs/model.md 4.5)
 };
 
 End endAt(double r2, double rv, double dl, double eps) {
@@ -22,7 +22,7 @@ End endAt(double r2, double rv, double dl, double eps) {
   return e;
 }
 
-// 1/(R (Dl R + r.v)) without its constant part: for r.v < 0, the rewrite of model.md 4.5,
+// 1/(R (Dl R + r.v)) without its constant part: for r.v < 0, the rewrite of docs/model.md 4.5,
 // Dl R + r.v = Dl^2 rho^2 / (Dl R - r.v) (rho^2 = |r_perp|^2 + eps^2), gives
 // 1/(R (Dl R + r.v)) = 2/(Dl rho^2) - 1/(R (Dl R - r.v)); the constant 2/(Dl rho^2) is added
 // separately so that it cancels exactly when both ends are behind.
@@ -42,7 +42,8 @@ SegmentIntegrals segmentIntegrals(const Vec3& r_i, const Vec3& v, double eps) {
   const bool mixed = e0.behind && !e1.behind;
 
   SegmentIntegrals t;
-  // T_{0,-1} = (1/Dl) [ln(Dl R + r.v)]_0^1 (model.md 4.2), each log through the rewrite of 4.5.
+  // T_{0,-1} = (1/Dl) [ln(Dl R + r.v)]_0^1 (docs/model.md 4.2), each log through the rewrite
+  // of 4.5.
   double log_ratio;
   if (mixed) {
     log_ratio = std::log(e1.G * e0.G / (dl2 * rho2));
@@ -52,12 +53,12 @@ SegmentIntegrals segmentIntegrals(const Vec3& r_i, const Vec3& v, double eps) {
     log_ratio = std::log(e1.G / e0.G);
   }
   t.t0m1 = log_ratio / dl;
-  // T_{0,-3} = -[1/(R (Dl R + r.v))]_0^1 (model.md 4.2 with the rewrite of 4.5).
+  // T_{0,-3} = -[1/(R (Dl R + r.v))]_0^1 (docs/model.md 4.2 with the rewrite of 4.5).
   t.t0m3 = -(inverseRgRegular(e1) - inverseRgRegular(e0)) + (mixed ? 2.0 / (dl * rho2) : 0.0);
   // [R]_0^1 = (R_1^2 - R_0^2)/(R_1 + R_0) = (2 r_i.v + Dl^2)/(R_1 + R_0): no cancellation.
   const double dR = (2.0 * riv + dl2) / (e1.R + e0.R);
   const double dInvR = -dR / (e0.R * e1.R);  // [1/R]_0^1
-  // Recursions of model.md 4.2 (integration by parts, d R/d alpha = r_alpha.v / R).
+  // Recursions of docs/model.md 4.2 (integration by parts, d R/d alpha = r_alpha.v / R).
   t.t1m1 = dR / dl2 - riv / dl2 * t.t0m1;
   t.t1m3 = -dInvR / dl2 - riv / dl2 * t.t0m3;
   t.t2m3 = -(1.0 / e1.R) / dl2 + t.t0m1 / dl2 - riv / dl2 * t.t1m3;
@@ -73,7 +74,7 @@ SegmentBlocks segmentBlocks(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, 
   const Mat3 rv_vr = r * v.transpose() + v * r.transpose();
   const Mat3 vv = v * v.transpose();
   const double e2 = eps * eps;
-  // A2 and A1' of model.md 4.2; A1 = A1' - A2 turns intercept/slope into nodal values.
+  // A2 and A1' of docs/model.md 4.2; A1 = A1' - A2 turns intercept/slope into nodal values.
   SegmentBlocks b;
   b.a2 = (t.t1m1 + e2 * t.t1m3) * Mat3::Identity() + t.t1m3 * rr + t.t2m3 * rv_vr + t.t3m3 * vv;
   const Mat3 a1p =

@@ -1,6 +1,6 @@
 // Rigid helix of regularized Stokeslet segments and its axial resistance coefficients
-// (model.md 4.5 for the eps rule; helix geometry as model.md 8.4.1; coefficients A, B, D as in
-// Rodenborn et al., PNAS 110 (2013) E338).
+// (docs/model.md 4.5 for the eps rule; helix geometry as docs/model.md 8.4.1; coefficients A, B, D
+// as in Rodenborn et al., PNAS 110 (2013) E338).
 #pragma once
 
 #include <optional>
@@ -10,7 +10,7 @@
 namespace flagella::rss {
 
 /// sqrt(e): eps = sqrt(e) a makes a line of regularized Stokeslets reproduce the local
-/// slender-body operator of a filament of radius a (model.md 4.5; Keller & Rubinow 1976).
+/// slender-body operator of a filament of radius a (docs/model.md 4.5; Keller & Rubinow 1976).
 inline constexpr double kSqrtE = 1.6487212707001282;
 /// Default edge length in filament radii (chosen from the convergence check in test_rss.cpp).
 inline constexpr double kDefaultEdgeLengthInRadii = 2.0;
@@ -39,7 +39,7 @@ struct ResolvedHelix {
 ResolvedHelix resolveHelix(const HelixSpec& spec);
 
 /// Nodes x(phi) = (R cos phi, chi R sin phi, lambda phi / 2 pi), phi in [0, 2 pi L / lambda],
-/// equal arc-length edges (model.md 8.4.1 parametrisation with axis z).
+/// equal arc-length edges (docs/model.md 8.4.1 parametrisation with axis z).
 Polyline helixNodes(const ResolvedHelix& helix);
 
 /// Axial resistance of the rigid helix (axis z through the origin) in a fluid of viscosity mu.

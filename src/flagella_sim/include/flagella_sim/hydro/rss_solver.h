@@ -1,5 +1,5 @@
-// RSS solve for a polyline (model.md 4.3-4.4): factors Ablk once with partial-pivot LU (Ablk is
-// not symmetric, so Cholesky/LDLT would be wrong) and maps nodal velocities to forces.
+// RSS solve for a polyline (docs/model.md 4.3-4.4): factors Ablk once with partial-pivot LU (Ablk
+// is not symmetric, so Cholesky/LDLT would be wrong) and maps nodal velocities to forces.
 #pragma once
 
 #include <Eigen/LU>
@@ -21,9 +21,9 @@ class RssSolver {
 
   /// F = 8 pi mu Ablk^{-1} U: force densities on the fluid (3M, N/m) from nodal velocities U (3M).
   VecX forceDensities(const VecX& velocities) const;
-  /// F_p^hyd = -l_p f_p: hydrodynamic forces on the nodes (model.md 4.3).
+  /// F_p^hyd = -l_p f_p: hydrodynamic forces on the nodes (docs/model.md 4.3).
   VecX nodalForces(const VecX& velocities) const;
-  /// K = 8 pi mu D Ablk^{-1}, D = diag(l_p I3), so that F^hyd = -K U (model.md 4.4 option B).
+  /// K = 8 pi mu D Ablk^{-1}, D = diag(l_p I3), so that F^hyd = -K U (docs/model.md 4.4 option B).
   MatX dragMatrix() const;
 
  private:

@@ -1,5 +1,6 @@
 // Regularized Stokeslet segment (RSS) integrals and 3x3 blocks for one segment with linear force
-// density (model.md 4.1-4.2; Cortez, J. Comput. Phys. 375 (2018) "Regularized Stokeslet segments").
+// density (docs/model.md 4.1-4.2; Cortez, J. Comput. Phys. 375 (2018) "Regularized Stokeslet
+// segments").
 #pragma once
 
 #include "flagella_sim/core/types.h"
@@ -12,11 +13,11 @@ struct SegmentIntegrals {
   double t0m3 = 0, t1m3 = 0, t2m3 = 0, t3m3 = 0;  // T_{0,-3} .. T_{3,-3}
 };
 
-/// Closed forms of model.md 4.2 with the stable rewrite of 4.5. r_i = xt - x_i, v = x_i - x_{i+1}
-/// (must be non-zero), eps > 0. Inputs are not validated here (hot path): see rss_matrix.h.
+/// Closed forms of docs/model.md 4.2 with the stable rewrite of 4.5. r_i = xt - x_i, v = x_i -
+/// x_{i+1} (must be non-zero), eps > 0. Inputs are not validated here (hot path): see rss_matrix.h.
 SegmentIntegrals segmentIntegrals(const Vec3& r_i, const Vec3& v, double eps);
 
-/// The blocks A1 (multiplies f_i) and A2 (multiplies f_{i+1}) of model.md 4.2, so that the
+/// The blocks A1 (multiplies f_i) and A2 (multiplies f_{i+1}) of docs/model.md 4.2, so that the
 /// segment x_i -> x_{i+1} induces 8 pi mu u(xt) = Dl (A1 f_i + A2 f_{i+1}), Dl = |x_{i+1} - x_i|.
 struct SegmentBlocks {
   Mat3 a1 = Mat3::Zero();
@@ -24,7 +25,7 @@ struct SegmentBlocks {
 };
 SegmentBlocks segmentBlocks(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, double eps);
 
-/// 8 pi mu u(xt) induced by the segment with nodal force densities f_i, f_ip1 (model.md 4.2).
+/// 8 pi mu u(xt) induced by the segment with nodal force densities f_i, f_ip1 (docs/model.md 4.2).
 Vec3 segmentVelocityTimes8PiMu(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, const Vec3& f_i,
                                const Vec3& f_ip1, double eps);
 
