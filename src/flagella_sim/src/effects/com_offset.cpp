@@ -2,13 +2,11 @@
 
 #include <cmath>
 
-
 namespace flagella {
 
 ComOffset::ComOffset(double head_mass) : Effect(kName, comOffsetEffect().parameters) {
   offset_ = parameterIndex("offset");
-  head_mass_ = parameterIndex("head_mass");
-  params_.set("head_mass", head_mass, name());
+  head_mass_ = parameterIndex("head_mass", head_mass);
 }
 
 namespace {

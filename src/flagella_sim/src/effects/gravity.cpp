@@ -1,11 +1,9 @@
 #include "flagella_sim/effects/gravity.h"
 
-
 namespace flagella {
 
 Gravity::Gravity(double body_density) : Effect(kName, gravityEffect().parameters) {
-  body_density_ = parameterIndex("body_density");
-  params_.set("body_density", body_density, name());
+  body_density_ = parameterIndex("body_density", body_density);
 }
 
 const EffectDescriptor& gravityEffect() {

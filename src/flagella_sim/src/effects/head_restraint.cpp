@@ -4,10 +4,8 @@ namespace flagella {
 
 HeadRestraint::HeadRestraint(double height_stiffness, double pitch_stiffness)
     : Effect(kName, headRestraintEffect().parameters) {
-  height_k_ = parameterIndex("height_stiffness");
-  pitch_k_ = parameterIndex("pitch_stiffness");
-  params_.set("height_stiffness", height_stiffness, name());
-  params_.set("pitch_stiffness", pitch_stiffness, name());
+  height_k_ = parameterIndex("height_stiffness", height_stiffness);
+  pitch_k_ = parameterIndex("pitch_stiffness", pitch_stiffness);
 }
 
 const EffectDescriptor& headRestraintEffect() {
@@ -17,7 +15,8 @@ const EffectDescriptor& headRestraintEffect() {
     e.description = "soft springs on the head's height and pitch (a floating head)";
     e.parameters = {
         {"height_stiffness", 0.0, 0.0, 1e9, "N/m", "spring on the head centre's height"},
-        {"pitch_stiffness", 0.0, 0.0, 1e9, "N m", "spring on the vertical component of the head axis"}};
+        {"pitch_stiffness", 0.0, 0.0, 1e9, "N m",
+         "spring on the vertical component of the head axis"}};
     e.make = [](const EffectBuildContext&) { return std::make_unique<HeadRestraint>(0.0, 0.0); };
     return e;
   }();

@@ -23,12 +23,9 @@ double integratedLateralCoefficient(double onset_over_radius, double sharpness) 
 
 InterfaceLateralForce::InterfaceLateralForce(double C_yr, double head_radius, double head_length)
     : Effect(kName, interfaceLateralForceEffect().parameters) {
-  c_yr_ = parameterIndex("C_yr");
-  radius_ = parameterIndex("head_radius");
-  length_ = parameterIndex("head_length");
-  params_.set("C_yr", C_yr, name());
-  params_.set("head_radius", head_radius, name());
-  params_.set("head_length", head_length, name());
+  c_yr_ = parameterIndex("C_yr", C_yr);
+  radius_ = parameterIndex("head_radius", head_radius);
+  length_ = parameterIndex("head_length", head_length);
 }
 
 namespace {

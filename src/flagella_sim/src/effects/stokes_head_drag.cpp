@@ -2,17 +2,13 @@
 
 #include <cmath>
 
-
 namespace flagella {
 
 StokesHeadDrag::StokesHeadDrag(double C_t, double C_r, double head_radius)
     : Effect(kName, stokesHeadDragEffect().parameters) {
-  c_t_ = parameterIndex("C_t");
-  c_r_ = parameterIndex("C_r");
-  radius_ = parameterIndex("head_radius");
-  params_.set("C_t", C_t, name());
-  params_.set("C_r", C_r, name());
-  params_.set("head_radius", head_radius, name());
+  c_t_ = parameterIndex("C_t", C_t);
+  c_r_ = parameterIndex("C_r", C_r);
+  radius_ = parameterIndex("head_radius", head_radius);
 }
 
 const EffectDescriptor& stokesHeadDragEffect() {

@@ -104,6 +104,12 @@ class Effect {
  protected:
   /// Index of a parameter declared from the schema (for fast access in addForce).
   int parameterIndex(const std::string& name) const { return params_.index(name); }
+  /// parameterIndex, after setting the parameter to `value` (a default that depends on the
+  /// robot or the medium); out of range throws naming the effect's parameter.
+  int parameterIndex(const std::string& name, double value) {
+    params_.set(name, value, name_);
+    return params_.index(name);
+  }
   ParameterSet params_;
 
  private:
