@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "flagella_sim/core/text_lists.h"
+#include "flagella_sim/core/text_lists.h"  // joined(), found from flagella::identify
 
 namespace flagella {
 namespace identify {
@@ -18,9 +18,6 @@ inline std::string formatted(const std::string& format, double a, double b = 0.0
   std::snprintf(buffer, sizeof buffer, format.c_str(), a, b, c, d);
   return buffer;
 }
-
-/// The names separated by a separator ("a, b" or "a + b").
-using flagella::joined;
 
 }  // namespace identify
 }  // namespace flagella
