@@ -143,6 +143,7 @@ RobotDimensions SimulationConfig::robotDimensions() const {
   d.head_radius = head_radius;
   d.head_length = head_length;
   d.body_density = geometry.tail_material.density;
+  d.filament_radius = geometry.tail_material.radius;
   return d;
 }
 

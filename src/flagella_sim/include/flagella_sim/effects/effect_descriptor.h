@@ -46,6 +46,7 @@ struct RobotDimensions {
   double head_radius = 0.02;     ///< a (or R) [m]
   double head_length = 0.04;     ///< L_head [m]
   double body_density = 1000.0;  ///< density of the robot's material [kg/m^3]
+  double filament_radius = 3.2e-3;  ///< r0 of the tails or the flagellum [m]
 };
 
 /// What a descriptor's factory sees: the effect's settings, the medium and the robot's sizes.
