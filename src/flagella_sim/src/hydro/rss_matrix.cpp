@@ -8,52 +8,73 @@
 
 namespace flagella::rss {
 
-void validatePolyline(const Polyline& nodes, double eps) {
+Segments chainSegments(int node_count) {
+  Segments segments;
+  for (int a = 0; a + 1 < node_count; ++a) segments.push_back({a, a + 1});
+  return segments;
+}
+
+void validatePolyline(const Polyline& nodes, const Segments& segments, double eps) {
   if (!(std::isfinite(eps) && eps > 0.0)) {
     std::ostringstream msg;
     msg << "eps (regularization) must be finite and > 0, got " << eps;
     throw std::invalid_argument(msg.str());
   }
-  if (nodes.size() < 2) {
+  if (nodes.size() < 2 || segments.empty()) {
     throw std::invalid_argument("nodes: need at least 2 nodes (1 segment), got " +
                                 std::to_string(nodes.size()));
   }
-  for (std::size_t p = 0; p < nodes.size(); ++p) {
-    if (!nodes[p].allFinite()) {
+  for (std::size_t p = 0; p < nodes.size(); ++p)
+    if (!nodes[p].allFinite())
       throw std::invalid_argument("nodes: node " + std::to_string(p) +
                                   " has a non-finite coordinate");
-    }
-    if (p > 0 && !((nodes[p] - nodes[p - 1]).norm() > 0.0)) {
-      throw std::invalid_argument("nodes: segment " + std::to_string(p - 1) +
+  const int m = static_cast<int>(nodes.size());
+  for (std::size_t j = 0; j < segments.size(); ++j) {
+    const auto [a, b] = segments[j];
+    if (a < 0 || b < 0 || a >= m || b >= m)
+      throw std::invalid_argument("segments: segment " + std::to_string(j) +
+                                  " names a node outside [0, " + std::to_string(m - 1) + "]");
+    if (!((nodes[b] - nodes[a]).norm() > 0.0))
+      throw std::invalid_argument("nodes: segment " + std::to_string(j) +
                                   " has zero length (edge lengths must be > 0)");
-    }
   }
 }
 
-MatX assembleRssMatrix(const Polyline& nodes, double eps) {
-  validatePolyline(nodes, eps);
+void validatePolyline(const Polyline& nodes, double eps) {
+  validatePolyline(nodes, chainSegments(static_cast<int>(nodes.size())), eps);
+}
+
+MatX assembleRssMatrix(const Polyline& nodes, const Segments& segments, double eps) {
+  validatePolyline(nodes, segments, eps);
   const int m = static_cast<int>(nodes.size());
   MatX ablk = MatX::Zero(3 * m, 3 * m);
-  for (int p = 0; p < m; ++p) {
-    for (int a = 0; a + 1 < m; ++a) {
-      const SegmentBlocks b = segmentBlocks(nodes[p], nodes[a], nodes[a + 1], eps);
-      const double dl = (nodes[a + 1] - nodes[a]).norm();
-      ablk.block<3, 3>(3 * p, 3 * a) += dl * b.a1;  // docs/model.md 4.3
-      ablk.block<3, 3>(3 * p, 3 * (a + 1)) += dl * b.a2;
+  for (const auto& [a, b] : segments) {
+    const double dl = (nodes[b] - nodes[a]).norm();
+    for (int p = 0; p < m; ++p) {
+      const SegmentBlocks blocks = segmentBlocks(nodes[p], nodes[a], nodes[b], eps);
+      ablk.block<3, 3>(3 * p, 3 * a) += dl * blocks.a1;  // docs/model.md 4.3
+      ablk.block<3, 3>(3 * p, 3 * b) += dl * blocks.a2;
     }
   }
   return ablk;
 }
 
-VecX voronoiLengths(const Polyline& nodes) {
-  const int m = static_cast<int>(nodes.size());
-  VecX l = VecX::Zero(m);
-  for (int a = 0; a + 1 < m; ++a) {
-    const double half = 0.5 * (nodes[a + 1] - nodes[a]).norm();
+MatX assembleRssMatrix(const Polyline& nodes, double eps) {
+  return assembleRssMatrix(nodes, chainSegments(static_cast<int>(nodes.size())), eps);
+}
+
+VecX voronoiLengths(const Polyline& nodes, const Segments& segments) {
+  VecX l = VecX::Zero(static_cast<int>(nodes.size()));
+  for (const auto& [a, b] : segments) {
+    const double half = 0.5 * (nodes[b] - nodes[a]).norm();
     l[a] += half;
-    l[a + 1] += half;
+    l[b] += half;
   }
   return l;
+}
+
+VecX voronoiLengths(const Polyline& nodes) {
+  return voronoiLengths(nodes, chainSegments(static_cast<int>(nodes.size())));
 }
 
 }  // namespace flagella::rss

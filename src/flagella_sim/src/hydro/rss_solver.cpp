@@ -21,10 +21,13 @@ double checkedViscosity(double mu) {
 }  // namespace
 
 RssSolver::RssSolver(const Polyline& nodes, double eps, double viscosity)
+    : RssSolver(nodes, chainSegments(static_cast<int>(nodes.size())), eps, viscosity) {}
+
+RssSolver::RssSolver(const Polyline& nodes, const Segments& segments, double eps, double viscosity)
     : eps_(eps),
       mu_(checkedViscosity(viscosity)),
-      ablk_(assembleRssMatrix(nodes, eps)),
-      lengths_(rss::voronoiLengths(nodes)),
+      ablk_(assembleRssMatrix(nodes, segments, eps)),
+      lengths_(rss::voronoiLengths(nodes, segments)),
       lu_(ablk_) {}
 
 void RssSolver::checkSize(const VecX& velocities) const {

@@ -26,6 +26,23 @@ class NegatingSink : public JacobianSink {
   SparseAssembler& assembler_;
 };
 
+// Subtracts an effect's dense dF/dq block from the dense Newton Jacobian (docs/model.md 1.10).
+class DenseNegatingSink : public DenseJacobianSink {
+ public:
+  explicit DenseNegatingSink(MatX& jacobian) : jacobian_(jacobian) {}
+  void addDense(const std::vector<int>& dofs, const MatX& block, double scale) override {
+    const int n = static_cast<int>(dofs.size());
+    for (int c = 0; c < n; ++c)
+      for (int r = 0; r < n; ++r) jacobian_(dofs[r], dofs[c]) -= scale * block(r, c);
+  }
+
+ private:
+  MatX& jacobian_;
+};
+
+// A dense Jacobian whose reciprocal condition estimate is below this is treated as singular.
+constexpr double kMinDenseReciprocalCondition = 1e-15;
+
 // A stagnated Newton update is accepted only if the residual is within this factor of the
 // tolerance (NewtonOptions::step_tolerance).
 constexpr double kStagnationResidualFactor = 1e3;
@@ -53,7 +70,10 @@ ImplicitStepper::ImplicitStepper(RodNetwork net, std::vector<EffectPtr> effects,
   motor_twist_ = {net_.parts.motor_spring, motor_tau_bar0_};
   attempt_viscosity_ = medium_.viscosity();
   for (bool fixed : net_.fixed_dof) any_fixed_ = any_fixed_ || fixed;
-  for (const EffectPtr& e : effects_) e->attach(net_);
+  for (const EffectPtr& e : effects_) {
+    e->attach(net_);
+    dense_ = dense_ || e->hasDenseJacobian();
+  }
 }
 
 std::vector<const Effect*> ImplicitStepper::motorSpeedLaws() const {
@@ -126,12 +146,45 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
   if (with_jacobian) {
     SparseMatrix& J = assembler_.finish();
     if (any_fixed_) pinFixedDofs(J);
+    if (dense_) buildDenseJacobian(ctx);
   }
   if (any_fixed_)
     for (int i = 0; i < residual_.size(); ++i)
       if (net_.fixed_dof[i]) residual_(i) = 0.0;
   return residual_.allFinite() ? scaledResidual(residual_)
                                : std::numeric_limits<double>::infinity();
+}
+
+void ImplicitStepper::buildDenseJacobian(const EffectContext& ctx) {
+  dense_jacobian_ = MatX(assembler_.matrix());
+  DenseNegatingSink sink(dense_jacobian_);
+  for (const EffectPtr& e : effects_)
+    if (e->hasDenseJacobian()) e->addDenseJacobian(ctx, sink);
+  if (!any_fixed_) return;
+  for (int i = 0; i < net_.ndof(); ++i) {  // Dirichlet DOFs, as in pinFixedDofs
+    if (!net_.fixed_dof[i]) continue;
+    dense_jacobian_.row(i).setZero();
+    dense_jacobian_.col(i).setZero();
+    dense_jacobian_(i, i) = 1.0;
+  }
+}
+
+bool ImplicitStepper::factorizeJacobian() {
+  ++factorizations_;
+  if (dense_) {
+    dense_lu_.compute(dense_jacobian_);
+    return dense_lu_.rcond() > kMinDenseReciprocalCondition;
+  }
+  if (!analyzed_ || assembler_.patternChanged()) {
+    lu_.analyze(assembler_.matrix());
+    analyzed_ = true;
+    ++analyses_;
+  }
+  return lu_.factorize(assembler_.matrix());
+}
+
+VecX ImplicitStepper::solveJacobian(const VecX& rhs) {
+  return dense_ ? VecX(dense_lu_.solve(rhs)) : lu_.solve(rhs);
 }
 
 ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, double motor_offset,
@@ -172,14 +225,8 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
         attempt.residual > kStagnationRatio * residual_history[(iter + 1) % 3])
       return attempt;
     if (iter > 0) evaluate(state, q, dt, frames, true);
-    if (!analyzed_ || assembler_.patternChanged()) {
-      lu_.analyze(assembler_.matrix());
-      analyzed_ = true;
-      ++analyses_;
-    }
-    ++factorizations_;
-    if (!lu_.factorize(assembler_.matrix())) return attempt;
-    VecX dq = lu_.solve(residual_);
+    if (!factorizeJacobian()) return attempt;
+    VecX dq = solveJacobian(residual_);
     if (!dq.allFinite()) return attempt;
     if (damped) {
       double length = 1.0;
@@ -221,6 +268,8 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& mot
         << ") at t = " << t_next << " s";
     throw SolverFailure(msg.str());
   }
+  const StepStart start{net_, state, dt, medium_, viscosity};
+  for (const EffectPtr& e : effects_) e->beginStep(start);
   // docs/model.md 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
   const double offset = state.motor_twist_offset + omega * dt;
   Attempt a = solveStep(trial, dt, offset, viscosity, false);

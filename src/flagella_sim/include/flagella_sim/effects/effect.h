@@ -56,6 +56,24 @@ class JacobianSink {
   }
 };
 
+/// Receives a dense block of dF/dq (docs/model.md 4.4 option B); the stepper subtracts it from
+/// the Newton Jacobian and then solves the Newton system with a dense LU.
+class DenseJacobianSink {
+ public:
+  virtual ~DenseJacobianSink() = default;
+  /// Adds scale * block to dF/dq at rows and columns `dofs` (block is dofs.size() squared).
+  virtual void addDense(const std::vector<int>& dofs, const MatX& block, double scale) = 0;
+};
+
+/// The start of a (sub)step t_k -> t_k + dt, before its Newton solve.
+struct StepStart {
+  const RodNetwork& net;
+  const RodState& state;  ///< at t_k
+  double dt = 0.0;
+  const Medium& medium;
+  double viscosity;  ///< of the (sub)step [Pa s], as EffectContext::viscosity
+};
+
 class Effect {
  public:
   /// Declares the parameters of `schema` (an effect's descriptor) with their defaults and ranges.
@@ -92,6 +110,15 @@ class Effect {
   /// True for effects that override motorSpeed: the stepper evaluates the motor's load (one
   /// spring's bending-twisting terms per step) only when some effect needs it.
   virtual bool shapesMotorSpeed() const { return false; }
+  /// Called before the Newton solve of every (sub)step: the place to build what the step
+  /// holds fixed, e.g. the RSS matrix at x(t_k) (docs/model.md 4.4). Throwing here fails the
+  /// step like an effect out of its domain.
+  virtual void beginStep(const StepStart& /*start*/) {}
+  /// True for effects whose Jacobian has a dense block (addDenseJacobian); the stepper then
+  /// solves the Newton system with a dense LU instead of the sparse one.
+  virtual bool hasDenseJacobian() const { return false; }
+  /// Adds the dense part of dF/dq at the iterate (called whenever the Jacobian is built).
+  virtual void addDenseJacobian(const EffectContext& /*ctx*/, DenseJacobianSink& /*sink*/) const {}
   /// Called after every accepted (sub)step with the states at its start and end: the place to
   /// update internal state (e.g. hysteresis). Not called for rejected attempts.
   virtual void acceptStep(const RodNetwork& /*net*/, const RodState& /*start*/,

@@ -12,6 +12,8 @@ class RssSolver {
  public:
   /// Validates (see validatePolyline; viscosity finite and > 0), assembles and factors Ablk.
   RssSolver(const Polyline& nodes, double eps, double viscosity);
+  /// The same for several chains sharing one system (segments name node pairs).
+  RssSolver(const Polyline& nodes, const Segments& segments, double eps, double viscosity);
 
   int nodeCount() const { return static_cast<int>(lengths_.size()); }
   const MatX& matrix() const { return ablk_; }

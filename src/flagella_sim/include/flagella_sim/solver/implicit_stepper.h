@@ -5,8 +5,11 @@
 // backtracking line search (NewtonOptions::damped_retry), then as two half steps, recursively up
 // to NewtonOptions::max_subdivision_depth; if that fails too, SolverFailure is thrown and the
 // state is left at the last accepted step.
+// Linear solve: sparse KLU, or a dense partial-pivot LU of the whole Jacobian when an effect has a
+// dense Jacobian block (Effect::hasDenseJacobian, the RSS hydrodynamics of docs/model.md 4.4).
 #pragma once
 
+#include <Eigen/LU>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -72,6 +75,8 @@ class ImplicitStepper {
   NewtonOptions& options() { return options_; }
   int totalFactorizations() const { return factorizations_; }
   int totalAnalyses() const { return analyses_; }
+  /// True when the Newton system is solved densely (an effect has a dense Jacobian block).
+  bool denseLinearSolve() const { return dense_; }
   const SparseLuSolver& linearSolver() const { return lu_; }
 
  private:
@@ -91,6 +96,11 @@ class ImplicitStepper {
   double scaledResidual(const VecX& f) const;
   double stepNorm(const VecX& dq) const;
   void pinFixedDofs(SparseMatrix& J) const;
+  /// Copies the sparse Jacobian into dense_jacobian_ and subtracts the effects' dense blocks.
+  void buildDenseJacobian(const EffectContext& ctx);
+  /// Factors the Jacobian built by evaluate(); false if it is singular.
+  bool factorizeJacobian();
+  VecX solveJacobian(const VecX& rhs);
 
   RodNetwork net_;
   std::vector<EffectPtr> effects_;
@@ -107,6 +117,9 @@ class ImplicitStepper {
   VecX residual_, external_;
   SparseLuSolver lu_;
   bool analyzed_ = false;
+  bool dense_ = false;  ///< some effect has a dense Jacobian block
+  MatX dense_jacobian_;
+  Eigen::PartialPivLU<MatX> dense_lu_;
   int factorizations_ = 0;
   int analyses_ = 0;
 };

@@ -1,0 +1,45 @@
+// Nonlocal hydrodynamics of the flagellum by regularized Stokeslet segments (docs/model.md 4):
+// the RSS matrix of the tail nodes is built and factored once per step at x(t_k); the force is
+// F^hyd = -K (x - x(t_k))/dt with K = 8 pi mu D Ablk^{-1} and the dense Jacobian block -K/dt
+// (option B, implicit, the default), or F^hyd = -K xdot(t_k) held fixed over the step with no
+// Jacobian (option A, explicit) (docs/model.md 4.4).
+#pragma once
+
+#include <vector>
+
+#include "flagella_sim/effects/effect.h"
+#include "flagella_sim/effects/effect_descriptor.h"
+#include "flagella_sim/hydro/rss_matrix.h"
+
+namespace flagella {
+
+/// The registry entry (effect_list.def).
+const EffectDescriptor& rssHydrodynamicsEffect();
+
+class RssHydrodynamics : public Effect {
+ public:
+  static constexpr const char* kName = "rss";
+  /// `eps`: regularisation [m]; `implicit`: option B (else option A).
+  RssHydrodynamics(double eps, bool implicit);
+  void attach(const RodNetwork& net) override;
+  void beginStep(const StepStart& start) override;
+  void addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const override;
+  bool hasDenseJacobian() const override { return implicit_; }
+  void addDenseJacobian(const EffectContext& ctx, DenseJacobianSink& sink) const override;
+
+  /// Network nodes the RSS acts on (every tail chain, root first), in system order.
+  const std::vector<int>& nodes() const { return nodes_; }
+
+ private:
+  VecX gather(const VecX& q) const;  ///< the RSS nodes' positions (3M) from a DOF vector
+
+  int eps_ = 0;
+  bool implicit_ = true;
+  std::vector<int> nodes_;
+  std::vector<int> dofs_;  ///< 3 position DOFs per RSS node
+  rss::Segments segments_;
+  MatX drag_;            ///< K at x(t_k) (option B)
+  VecX explicit_force_;  ///< -K xdot(t_k) (option A)
+};
+
+}  // namespace flagella

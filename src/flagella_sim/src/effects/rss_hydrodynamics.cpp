@@ -1,0 +1,99 @@
+#include "flagella_sim/effects/rss_hydrodynamics.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "flagella_sim/hydro/rss_solver.h"
+
+namespace flagella {
+
+RssHydrodynamics::RssHydrodynamics(double eps, bool implicit)
+    : Effect(kName, rssHydrodynamicsEffect().parameters), implicit_(implicit) {
+  eps_ = parameterIndex("eps", eps);
+}
+
+namespace {
+// eps = sqrt(e) r0: a line of regularized Stokeslets with this eps has the resistance of a slender
+// filament of radius r0 (docs/model.md 4.5).
+double defaultEps(const EffectBuildContext& b) {
+  if (!(b.medium.viscosity() > 0.0))
+    throw ConfigError("effects.rss needs medium.viscosity > 0 (Stokes flow), got " +
+                      formatNumber(b.medium.viscosity()));
+  return std::sqrt(std::exp(1.0)) * b.robot.filament_radius;
+}
+}  // namespace
+
+const EffectDescriptor& rssHydrodynamicsEffect() {
+  static const EffectDescriptor d = [] {
+    EffectDescriptor e;
+    e.name = RssHydrodynamics::kName;
+    e.description = "regularized Stokeslet segments on the tails (nonlocal viscous drag)";
+    e.options = {{"coupling",
+                  "implicit",
+                  {"implicit", "explicit"},
+                  "implicit: dense Jacobian block, frozen geometry (docs/model.md 4.4 B); "
+                  "explicit: force from the previous step's velocities (4.4 A, needs small dt)"}};
+    e.parameters = {{"eps", 2.6e-3, 1e-7, 0.1, "m",
+                     "regularisation eps (default sqrt(e) r0, docs/model.md 4.5)"}};
+    e.default_rules = {{"eps", "sqrt(e) robot.filament_radius"}};
+    e.make = [](const EffectBuildContext& c) {
+      return std::make_unique<RssHydrodynamics>(defaultEps(c),
+                                                c.spec.option("coupling") == "implicit");
+    };
+    return e;
+  }();
+  return d;
+}
+
+void RssHydrodynamics::attach(const RodNetwork& net) {
+  nodes_.clear();
+  segments_.clear();
+  for (const std::vector<int>& chain : net.parts.tail_nodes) {
+    const int first = static_cast<int>(nodes_.size());
+    for (size_t k = 0; k < chain.size(); ++k) {
+      nodes_.push_back(chain[k]);
+      if (k > 0)
+        segments_.push_back({first + static_cast<int>(k) - 1, first + static_cast<int>(k)});
+    }
+  }
+  if (segments_.empty())
+    throw ConfigError("effects.rss: the robot has no tail or flagellum nodes to act on");
+  dofs_.clear();
+  for (int node : nodes_)
+    for (int a = 0; a < 3; ++a) dofs_.push_back(RodNetwork::positionIndex(node) + a);
+}
+
+VecX RssHydrodynamics::gather(const VecX& q) const {
+  VecX x(dofs_.size());
+  for (size_t i = 0; i < dofs_.size(); ++i) x(i) = q(dofs_[i]);
+  return x;
+}
+
+void RssHydrodynamics::beginStep(const StepStart& start) {
+  rss::Polyline polyline;
+  for (int node : nodes_) polyline.push_back(nodePosition(start.state.q, node));
+  try {
+    const rss::RssSolver solver(polyline, segments_, params_[eps_], start.viscosity);
+    if (implicit_)
+      drag_ = solver.dragMatrix();  // K = 8 pi mu D Ablk^{-1} (docs/model.md 4.4 B)
+    else
+      explicit_force_ = solver.nodalForces(gather(start.state.qdot));  // docs/model.md 4.4 A
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(std::string("effects.rss at t = ") + std::to_string(start.state.time) +
+                             " s: " + e.what());
+  }
+}
+
+void RssHydrodynamics::addForce(const EffectContext& ctx, VecX& force,
+                                JacobianSink* /*jacobian*/) const {
+  // docs/model.md 4.4: option B, F^hyd = -K (x - x(t_k))/dt; option A, F^hyd fixed over the step
+  const VecX f =
+      implicit_ ? VecX(-drag_ * (gather(ctx.q) - gather(ctx.q_start)) / ctx.dt) : explicit_force_;
+  for (size_t i = 0; i < dofs_.size(); ++i) force(dofs_[i]) += f(i);
+}
+
+void RssHydrodynamics::addDenseJacobian(const EffectContext& ctx, DenseJacobianSink& sink) const {
+  sink.addDense(dofs_, drag_, -1.0 / ctx.dt);  // dF/dx = -K/dt (docs/model.md 4.4 B)
+}
+
+}  // namespace flagella

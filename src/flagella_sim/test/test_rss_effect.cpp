@@ -1,0 +1,201 @@
+// The RSS effect in the implicit step (docs/model.md 4.4): its dense Jacobian block against finite
+// differences of its force, option A against option B, and a sedimenting rod whose steady
+// hydrodynamic force balances the applied load (force balance at zero Reynolds number).
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <random>
+
+#include "flagella_sim/effects/constant_load.h"
+#include "flagella_sim/effects/rss_hydrodynamics.h"
+#include "flagella_sim/hydro/rss_solver.h"
+#include "flagella_sim/robots/multi_tail_robot.h"
+#include "flagella_sim/rod/rod_kinematics.h"
+#include "flagella_sim/solver/implicit_stepper.h"
+#include "support/test_robots.h"
+
+namespace flagella {
+namespace {
+
+class CapturingSink : public DenseJacobianSink {
+ public:
+  explicit CapturingSink(int n) : J(MatX::Zero(n, n)) {}
+  void addDense(const std::vector<int>& dofs, const MatX& block, double scale) override {
+    for (size_t c = 0; c < dofs.size(); ++c)
+      for (size_t r = 0; r < dofs.size(); ++r) J(dofs[r], dofs[c]) += scale * block(r, c);
+  }
+  MatX J;
+};
+
+struct Fixture {
+  RodNetwork net;
+  Medium medium;
+  RodState start;
+  VecX q;
+  double dt = 0.01;
+};
+
+// A three-tail robot bent and moving at random: three chains share one RSS system.
+Fixture makeFixture(unsigned seed) {
+  MultiTailGeometry g;
+  g.n_tails = 3;
+  g.tail_length = 0.05;
+  g.tail_edges = 6;
+  g.tail_material = testing::vpsMaterial();
+  Fixture f{buildMultiTailRobot(g), Medium(), {}, {}, 0.01};
+  f.medium.parameters().set("viscosity", 1.3);
+  std::mt19937 rng(seed);
+  f.start.q = testing::perturbed(f.net, f.net.restDofs(), 2e-3, 0.5, rng);
+  std::uniform_real_distribution<double> u(-0.01, 0.01);
+  f.start.qdot = VecX::NullaryExpr(f.net.ndof(), [&] { return u(rng); });
+  f.start.frames = initialFrames(f.net, f.start.q);
+  f.q = testing::perturbed(f.net, f.start.q, 1e-3, 0.3, rng);
+  return f;
+}
+
+VecX forceAt(const RssHydrodynamics& e, const Fixture& f, const VecX& q) {
+  const ReferenceFrames fr = transportFrames(f.net, q, f.start.frames);
+  VecX F = VecX::Zero(f.net.ndof());
+  e.addForce({f.net, q, fr, f.start.q, f.start.qdot, f.dt, f.dt, f.medium, f.medium.viscosity()}, F,
+             nullptr);
+  return F;
+}
+
+void beginStep(RssHydrodynamics& e, const Fixture& f) {
+  e.attach(f.net);
+  e.beginStep({f.net, f.start, f.dt, f.medium, f.medium.viscosity()});
+}
+
+TEST(RssEffect, DenseJacobianMatchesFiniteDifferences) {
+  const Fixture f = makeFixture(7);
+  RssHydrodynamics e(2e-3, true);
+  beginStep(e, f);
+  EXPECT_EQ(e.nodes().size(), 3u * 7u);  // every tail chain, root (disc rim) included
+  ASSERT_TRUE(e.hasDenseJacobian());
+  CapturingSink sink(f.net.ndof());
+  const ReferenceFrames fr = transportFrames(f.net, f.q, f.start.frames);
+  e.addDenseJacobian({f.net, f.q, fr, f.start.q, f.start.qdot, f.dt, f.dt, f.medium, 1.3}, sink);
+  const double h = 1e-7;
+  MatX J_fd(f.net.ndof(), f.net.ndof());
+  for (int i = 0; i < f.net.ndof(); ++i) {
+    VecX qp = f.q, qm = f.q;
+    qp(i) += h;
+    qm(i) -= h;
+    J_fd.col(i) = (forceAt(e, f, qp) - forceAt(e, f, qm)) / (2 * h);
+  }
+  const double scale = J_fd.cwiseAbs().maxCoeff();
+  ASSERT_GT(scale, 0.0);
+  EXPECT_LT((sink.J - J_fd).cwiseAbs().maxCoeff(), 1e-6 * scale);
+}
+
+TEST(RssEffect, ExplicitOptionIsImplicitForceAtStartVelocities) {
+  const Fixture f = makeFixture(8);
+  RssHydrodynamics implicit(2e-3, true), explicit_a(2e-3, false);
+  beginStep(implicit, f);
+  beginStep(explicit_a, f);
+  EXPECT_FALSE(explicit_a.hasDenseJacobian());
+  // Option B at x = x_k + dt xdot_k has the implicit velocity xdot_k: the force of option A.
+  const VecX b = forceAt(implicit, f, f.start.q + f.dt * f.start.qdot);
+  const VecX a = forceAt(explicit_a, f, f.q);
+  ASSERT_GT(a.norm(), 0.0);
+  EXPECT_LT((a - b).norm(), 1e-10 * a.norm());
+  EXPECT_EQ(forceAt(explicit_a, f, f.start.q), a);  // held fixed over the step
+  // Only tail node positions feel it.
+  for (int node : implicit.nodes()) EXPECT_GE(node, 3);
+  for (int i = 0; i < 3 * 3; ++i) EXPECT_EQ(a(i), 0.0);
+}
+
+TEST(RssEffect, BadViscosityAndEmptyRobotAreReported) {
+  RssHydrodynamics e(2e-3, true);
+  RodNetwork rod = testing::makeStraightRod(4, 0.02, testing::vpsMaterial());
+  EXPECT_THROW(e.attach(rod), ConfigError);  // no tail chains
+  Fixture f = makeFixture(9);
+  e.attach(f.net);
+  EXPECT_THROW(e.beginStep({f.net, f.start, f.dt, f.medium, 0.0}), std::runtime_error);
+}
+
+// ---- a stiff rod sedimenting broadside under a uniform load ------------------------------------
+
+struct Sediment {
+  Vec3 velocity;    ///< mean node velocity at the end
+  Vec3 hydro;       ///< total hydrodynamic force at the end
+  Vec3 load;        ///< total applied load
+  double drag = 0;  ///< rigid broadside drag coefficient of the rod from RssSolver [N s/m]
+};
+
+Sediment sediment(bool implicit, double dt, double duration) {
+  RodMaterial m = testing::vpsMaterial();
+  m.radius = 1e-3;
+  m.youngs_modulus = 1e9;  // nearly rigid: the result is compared with a rigid rod
+  RodNetwork rod = testing::makeStraightRod(20, 0.1, m);
+  std::vector<int> chain;
+  std::vector<int> edges;
+  for (int i = 0; i < rod.numNodes(); ++i) chain.push_back(i);
+  for (int j = 0; j < rod.numEdges(); ++j) edges.push_back(j);
+  rod.parts.tail_nodes = {chain};
+  rod.parts.tail_edges = {edges};
+  rod.parts.motor_spring = -1;
+  const double eps = 1.65e-3;
+  auto rss = std::make_unique<RssHydrodynamics>(eps, implicit);
+  auto load = std::make_unique<ConstantLoad>();
+  const Vec3 per_node(2e-4, 0.0, 0.0);
+  for (int i = 0; i < rod.numNodes(); ++i) load->addNodeForce(i, per_node);
+  std::vector<EffectPtr> effects;
+  effects.push_back(std::move(rss));
+  effects.push_back(std::move(load));
+  Medium medium;
+  medium.parameters().set("viscosity", 1.0);
+  NewtonOptions options;
+  options.force_scale = 1e-4;
+  options.moment_scale = 1e-5;
+  options.length_scale = 0.1;
+  ImplicitStepper stepper(rod, std::move(effects), medium, options);
+  EXPECT_EQ(stepper.denseLinearSolve(), implicit);
+  RodState s = stepper.initialState();
+  ConstantMotor motor(0.0);
+  const long steps = std::lround(duration / dt);
+  for (long k = 0; k < steps; ++k) stepper.step(s, dt, motor);
+  Sediment out;
+  out.velocity.setZero();
+  for (int i = 0; i < rod.numNodes(); ++i) out.velocity += s.qdot.segment<3>(3 * i);
+  out.velocity /= rod.numNodes();
+  // Total hydrodynamic force at the end state, through the effect itself.
+  const Effect* e = stepper.findEffect("rss");
+  RssHydrodynamics probe(eps, true);
+  probe.attach(rod);
+  RodState previous = s;
+  previous.q = s.q - dt * s.qdot;
+  probe.beginStep({rod, previous, dt, medium, 1.0});
+  VecX F = VecX::Zero(rod.ndof());
+  probe.addForce({rod, s.q, s.frames, previous.q, s.qdot, dt, s.time, medium, 1.0}, F, nullptr);
+  out.hydro.setZero();
+  for (int i = 0; i < rod.numNodes(); ++i) out.hydro += F.segment<3>(3 * i);
+  out.load = per_node * rod.numNodes();
+  rss::Polyline line;
+  for (int i = 0; i < rod.numNodes(); ++i) line.push_back(nodePosition(s.q, i));
+  const MatX K = rss::RssSolver(line, eps, 1.0).dragMatrix();
+  VecX U = VecX::Zero(3 * rod.numNodes());
+  for (int i = 0; i < rod.numNodes(); ++i) U(3 * i) = 1.0;
+  const VecX f = K * U;
+  for (int i = 0; i < rod.numNodes(); ++i) out.drag += f(3 * i);
+  EXPECT_NE(e, nullptr);
+  return out;
+}
+
+TEST(RssEffect, SedimentingRodBalancesLoadInEveryOption) {
+  const Sediment b = sediment(true, 1e-3, 0.05);
+  // Zero Reynolds number: the hydrodynamic force balances the load.
+  EXPECT_LT((b.hydro + b.load).norm(), 1e-3 * b.load.norm());
+  // A nearly rigid rod: the speed is load / rigid broadside drag.
+  EXPECT_NEAR(b.velocity.x(), b.load.x() / b.drag, 5e-3 * b.velocity.x());
+  EXPECT_LT(std::abs(b.velocity.y()) + std::abs(b.velocity.z()), 1e-6 * b.velocity.x());
+  // Option A (explicit) at a small step agrees with option B.
+  const Sediment a = sediment(false, 1e-4, 0.05);
+  EXPECT_NEAR(a.velocity.x(), b.velocity.x(), 2e-3 * b.velocity.x());
+  // Option B is stable and converged at a step 10x larger than the relaxation time.
+  const Sediment big = sediment(true, 2e-2, 0.2);
+  EXPECT_NEAR(big.velocity.x(), b.velocity.x(), 2e-3 * b.velocity.x());
+}
+
+}  // namespace
+}  // namespace flagella
