@@ -1,0 +1,50 @@
+// Bracketing + bisection for the motor rate at which a monotone yes/no property of a run switches
+// (the flagellum's buckling threshold, docs/model.md 8.4.4). Pure logic: the runs are a callback.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace flagella {
+
+/// One run of the search: the rate tried and what it showed.
+struct ThresholdProbe {
+  double rate = 0.0;       ///< motor rate magnitude tried [rpm]
+  bool above = false;      ///< the property holds (e.g. buckled)
+  double indicator = 0.0;  ///< the measured quantity behind `above` (e.g. max tilt [deg])
+  double wall_seconds = 0.0;
+  bool failed = false;  ///< the run could not be completed (then `error` says why)
+  std::string error;
+};
+
+struct ThresholdSearchOptions {
+  double low = 10.0;         ///< first lower guess [rpm], > 0
+  double high = 100.0;       ///< first upper guess [rpm], > low
+  double min_rate = 0.1;     ///< the lower guess is halved down to this before giving up
+  double max_rate = 2000.0;  ///< the upper guess is doubled up to this before giving up
+  double tolerance = 1.0;    ///< stop when the bracket is narrower than this [rpm]
+  int max_runs = 40;
+};
+
+struct ThresholdResult {
+  bool found = false;
+  double threshold = 0.0;            ///< bracket midpoint [rpm]
+  double low = 0.0;                  ///< highest rate seen below the threshold [rpm]
+  double high = 0.0;                 ///< lowest rate seen above it [rpm]
+  std::vector<ThresholdProbe> runs;  ///< in the order made
+  std::string message;               ///< why the search stopped without a threshold
+};
+
+/// Throws std::invalid_argument naming the option and its allowed range.
+void validate(const ThresholdSearchOptions& options);
+
+/// Finds the rate where `probe(rate).above` switches from false to true: the lower guess is
+/// halved while it is above, the upper guess doubled while it is below, then the bracket is
+/// bisected until narrower than the tolerance. A failed run stops the search (found = false).
+/// `progress` (optional) sees every run as it completes.
+ThresholdResult findThreshold(const std::function<ThresholdProbe(double)>& probe,
+                              const ThresholdSearchOptions& options,
+                              const std::function<void(const ThresholdProbe&)>& progress = {});
+
+}  // namespace flagella

@@ -1,0 +1,93 @@
+// The bracketing + bisection search for a switching rate (docs/model.md 8.4.4) on properties with
+// a known switch point: the result must bracket it within the tolerance, whatever the guesses.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "flagella_sim/analysis/threshold_search.h"
+
+namespace flagella {
+namespace {
+
+std::function<ThresholdProbe(double)> stepAt(double switch_rate, int* calls = nullptr) {
+  return [=](double rate) {
+    if (calls) ++*calls;
+    ThresholdProbe p;
+    p.above = rate > switch_rate;
+    p.indicator = rate > switch_rate ? 40.0 : 2.0;
+    return p;
+  };
+}
+
+TEST(ThresholdSearch, BracketsTheSwitchFromAnyGuesses) {
+  for (double truth : {0.7, 13.0, 37.3, 99.9, 640.0}) {
+    for (auto [low, high] : {std::pair{10.0, 100.0}, std::pair{1.0, 2.0}, std::pair{50.0, 60.0}}) {
+      ThresholdSearchOptions o;
+      o.low = low;
+      o.high = high;
+      o.tolerance = 0.5;
+      const ThresholdResult r = findThreshold(stepAt(truth), o);
+      ASSERT_TRUE(r.found) << truth << " " << r.message;
+      EXPECT_LE(r.low, truth);
+      EXPECT_GT(r.high, truth);
+      EXPECT_LE(r.high - r.low, o.tolerance);
+      EXPECT_NEAR(r.threshold, truth, 0.5 * o.tolerance);
+      for (const ThresholdProbe& p : r.runs) EXPECT_EQ(p.above, p.rate > truth);
+    }
+  }
+}
+
+TEST(ThresholdSearch, BisectionNeedsLogarithmicallyManyRuns) {
+  int calls = 0;
+  ThresholdSearchOptions o;  // 10 and 100 rpm bracket 37.3 at once
+  o.tolerance = 90.0 / 1024.0;
+  const ThresholdResult r = findThreshold(stepAt(37.3, &calls), o);
+  ASSERT_TRUE(r.found);
+  EXPECT_EQ(calls, 2 + 10);
+  EXPECT_EQ(static_cast<int>(r.runs.size()), calls);
+}
+
+TEST(ThresholdSearch, ReportsWhyNoThresholdWasFound) {
+  ThresholdSearchOptions o;
+  o.max_rate = 500.0;
+  ThresholdResult never = findThreshold(stepAt(1e9), o);
+  EXPECT_FALSE(never.found);
+  EXPECT_NE(never.message.find("below the threshold up to"), std::string::npos) << never.message;
+  ThresholdResult always = findThreshold(stepAt(-1.0), o);
+  EXPECT_FALSE(always.found);
+  EXPECT_NE(always.message.find("above the threshold even at"), std::string::npos);
+  const auto failing = [](double rate) {
+    ThresholdProbe p;
+    p.failed = rate > 50.0;
+    p.error = "Newton did not converge";
+    return p;
+  };
+  ThresholdResult failed = findThreshold(failing, o);
+  EXPECT_FALSE(failed.found);
+  EXPECT_NE(failed.message.find("100 rpm failed: Newton did not converge"), std::string::npos)
+      << failed.message;
+  o.max_runs = 3;
+  EXPECT_FALSE(findThreshold(stepAt(37.3), o).found);
+}
+
+TEST(ThresholdSearch, BadOptionsNameTheField) {
+  ThresholdSearchOptions o;
+  o.high = 5.0;
+  try {
+    findThreshold(stepAt(1.0), o);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("high = 5 must be > low (10)"), std::string::npos)
+        << e.what();
+  }
+  o = {};
+  o.tolerance = 0.0;
+  EXPECT_THROW(findThreshold(stepAt(1.0), o), std::invalid_argument);
+  o = {};
+  o.low = std::nan("");
+  EXPECT_THROW(findThreshold(stepAt(1.0), o), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace flagella
