@@ -27,8 +27,12 @@ RssSolver::RssSolver(const Polyline& nodes, const Segments& segments, double eps
     : eps_(eps),
       mu_(checkedViscosity(viscosity)),
       ablk_(assembleRssMatrix(nodes, segments, eps)),
-      lengths_(rss::voronoiLengths(nodes, segments)),
-      lu_(ablk_) {}
+      lengths_(rss::voronoiLengths(nodes, segments)) {
+  if (!lu_.factorize(ablk_))
+    throw std::invalid_argument("the RSS matrix is singular (reciprocal condition " +
+                                std::to_string(lu_.rcond()) +
+                                "): nodes too close for this eps, or eps too small");
+}
 
 void RssSolver::checkSize(const VecX& velocities) const {
   if (velocities.size() != ablk_.rows()) {

@@ -172,8 +172,7 @@ void ImplicitStepper::buildDenseJacobian(const EffectContext& ctx) {
 bool ImplicitStepper::factorizeJacobian() {
   ++factorizations_;
   if (dense_) {
-    dense_lu_.compute(dense_jacobian_);
-    return dense_lu_.rcond() > kMinDenseReciprocalCondition;
+    return dense_lu_.factorize(dense_jacobian_, kMinDenseReciprocalCondition);
   }
   if (!analyzed_ || assembler_.patternChanged()) {
     lu_.analyze(assembler_.matrix());
@@ -184,7 +183,7 @@ bool ImplicitStepper::factorizeJacobian() {
 }
 
 VecX ImplicitStepper::solveJacobian(const VecX& rhs) {
-  return dense_ ? VecX(dense_lu_.solve(rhs)) : lu_.solve(rhs);
+  return dense_ ? dense_lu_.solve(rhs) : lu_.solve(rhs);
 }
 
 ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, double motor_offset,

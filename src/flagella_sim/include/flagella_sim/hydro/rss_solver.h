@@ -2,8 +2,7 @@
 // is not symmetric, so Cholesky/LDLT would be wrong) and maps nodal velocities to forces.
 #pragma once
 
-#include <Eigen/LU>
-
+#include "flagella_sim/core/dense_lu_solver.h"
 #include "flagella_sim/hydro/rss_matrix.h"
 
 namespace flagella::rss {
@@ -34,7 +33,7 @@ class RssSolver {
   double eps_, mu_;
   MatX ablk_;
   VecX lengths_;
-  Eigen::PartialPivLU<MatX> lu_;
+  DenseLuSolver lu_;
 };
 
 }  // namespace flagella::rss

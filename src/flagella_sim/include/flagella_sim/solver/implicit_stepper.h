@@ -9,12 +9,12 @@
 // dense Jacobian block (Effect::hasDenseJacobian, the RSS hydrodynamics of docs/model.md 4.4).
 #pragma once
 
-#include <Eigen/LU>
 #include <memory>
 #include <stdexcept>
 #include <vector>
 
 #include "flagella_sim/actuation/motor.h"
+#include "flagella_sim/core/dense_lu_solver.h"
 #include "flagella_sim/core/sparse_assembler.h"
 #include "flagella_sim/effects/effect.h"
 #include "flagella_sim/elastic/bend_twist_energy.h"
@@ -119,7 +119,7 @@ class ImplicitStepper {
   bool analyzed_ = false;
   bool dense_ = false;  ///< some effect has a dense Jacobian block
   MatX dense_jacobian_;
-  Eigen::PartialPivLU<MatX> dense_lu_;
+  DenseLuSolver dense_lu_;
   int factorizations_ = 0;
   int analyses_ = 0;
 };

@@ -1,0 +1,31 @@
+// Dense LU with partial pivoting for square systems that are not symmetric (the Newton Jacobian
+// with an RSS block, the RSS matrix itself; docs/model.md 4.3-4.4), backed by LAPACK (dgetrf,
+// dgetrs, dgetri, dgecon) from OpenBLAS, run on one thread so parallel runs do not compete.
+#pragma once
+
+#include <vector>
+
+#include "flagella_sim/core/types.h"
+
+namespace flagella {
+
+class DenseLuSolver {
+ public:
+  /// Factors A (copied); false if A is singular, not finite, or its reciprocal condition number
+  /// estimate is below `min_rcond`.
+  bool factorize(const MatX& A, double min_rcond = 1e-15);
+  /// Solves A x = b with the last factorisation.
+  VecX solve(const VecX& b) const;
+  /// A^{-1} from the last factorisation.
+  MatX inverse() const;
+  /// Reciprocal condition number estimate (1-norm) of the last factorised matrix.
+  double rcond() const { return rcond_; }
+  int size() const { return static_cast<int>(lu_.rows()); }
+
+ private:
+  MatX lu_;
+  std::vector<int> pivots_;
+  double rcond_ = 0.0;
+};
+
+}  // namespace flagella
