@@ -53,24 +53,37 @@ class ProgressPrinter {
   double last_ = 0.0;
 };
 
+// "n = 2" for a multi-tail robot, "helical, 3.5 pitches" for the helical one.
+std::string robotLabel(const SimulationConfig& c) {
+  if (!c.isHelical()) return "n = " + std::to_string(c.geometry.n_tails);
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "helical, %g pitches", c.helical.pitch_count);
+  return buf;
+}
+
 void printSummary(const SimulationConfig& c, const SummaryMetrics& m, std::ostream& out) {
   char buf[1024];
   std::snprintf(
       buf, sizeof(buf),
-      "summary (%s, n = %d, omega_T = %.2f rpm, steady window %.1f-%.1f s)\n"
+      "summary (%s, %s, omega_T = %.2f rpm, steady window %.1f-%.1f s)\n"
       "  omega_h = %.4f rpm (%.5f rad/s)\n"
       "  omega_t = %.4f rpm (%.5f rad/s)\n"
       "  v       = %.5f mm/s (forward, along the initial head axis)\n"
       "  yaw rate = %.5f rad/s, circle radius = %s\n"
       "  efficiency = %s\n"
       "  Newton iterations = %ld, subdivided steps = %ld\n",
-      c.source.c_str(), c.geometry.n_tails, units::radPerSecToRpm(c.motor.omega), m.window_start,
+      c.source.c_str(), robotLabel(c).c_str(), units::radPerSecToRpm(c.motor.omega), m.window_start,
       m.window_end, units::radPerSecToRpm(m.omega_h), m.omega_h, units::radPerSecToRpm(m.omega_t),
       m.omega_t, units::metresToMm(m.speed), m.yaw_rate,
       m.circle_valid ? (std::to_string(units::metresToMm(m.circle_radius)) + " mm").c_str() : "n/a",
       m.efficiency_valid ? std::to_string(m.efficiency).c_str() : "n/a", m.newton_iterations,
       m.subdivided_steps);
   out << buf;
+  if (c.isHelical())  // docs/model.md 8.4.4
+    out << "  heading change = " << units::radToDeg(m.heading_change)
+        << " deg, flagellum tilt max = " << units::radToDeg(m.flagellum_tilt_max) << " deg ("
+        << (m.buckled ? "buckled" : "not buckled") << ", threshold " << c.buckling_tilt_deg
+        << " deg)\n";
 }
 
 struct RunResult {
@@ -207,6 +220,10 @@ int sweepCommand(const SweepOptions& o) {
 
 int beamCommand(const BeamOptions& o) {
   const SimulationConfig c = loadSimulationConfig(o.config, o.overrides);
+  if (c.isHelical())
+    throw ConfigError(o.config +
+                      ": robot.type helical: the beam model (docs/model.md 6) is for "
+                      "the multi-tail robots");
   beam::BeamDesign d;
   d.n_tails = c.geometry.n_tails;
   d.tail_length = c.geometry.tail_length;

@@ -13,6 +13,19 @@ namespace {
 constexpr double kMinHorizontalAxis = 1e-6;
 // Speeds below this do not define a path tangent.
 constexpr double kMinPathSpeed = 1e-12;
+
+// docs/model.md 8.4.4: heading change over the whole run, flagellum tilt over the steady window
+// (samples from `first` on).
+void addTurnAndBucklingMetrics(const std::vector<TrajectorySample>& samples, size_t first,
+                               const SummaryInputs& in, SummaryMetrics& m) {
+  const Vec3& a = samples.front().head_axis;
+  const Vec3& b = samples.back().head_axis;
+  m.heading_change = std::atan2(a.cross(b).norm(), a.dot(b));
+  for (size_t i = first; i < samples.size(); ++i)
+    m.flagellum_tilt_max = std::max(m.flagellum_tilt_max, samples[i].flagellum_tilt);
+  m.buckled = m.flagellum_tilt_max > in.buckling_tilt;
+}
+
 }  // namespace
 
 SummaryMetrics summarize(const std::vector<TrajectorySample>& samples, const SummaryInputs& in) {
@@ -76,6 +89,7 @@ SummaryMetrics summarize(const std::vector<TrajectorySample>& samples, const Sum
                    (4.0 * in.C_r * in.head_radius * m.omega_h);  // docs/model.md 7.1 (Eq. 2.18)
     m.efficiency_valid = true;
   }
+  addTurnAndBucklingMetrics(samples, first, in, m);
   m.newton_iterations = samples.back().newton_iterations;
   m.subdivided_steps = samples.back().subdivided_steps;
   m.damped_steps = samples.back().damped_steps;

@@ -3,9 +3,11 @@
 #include <cmath>
 
 #include "flagella_sim/core/geometry.h"
-#include "flagella_sim/outputs/fits.h"
-#include "flagella_sim/rod/rod_kinematics.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/effects/effect_registry.h"
+#include "flagella_sim/outputs/fits.h"
+#include "flagella_sim/robots/flagellum_tilt.h"
+#include "flagella_sim/rod/rod_kinematics.h"
 
 namespace flagella {
 
@@ -23,6 +25,11 @@ constexpr double kSampleTimeSlack = 1e-9;
 
 }  // namespace
 
+RodNetwork buildRobot(const SimulationConfig& config) {
+  return config.isHelical() ? buildHelicalRobot(config.helical)
+                            : buildMultiTailRobot(config.geometry);
+}
+
 std::shared_ptr<const MotorCommand> makeMotor(const MotorSpec& spec) {
   std::shared_ptr<const MotorCommand> motor;
   if (spec.mode == "binary")
@@ -36,8 +43,7 @@ std::shared_ptr<const MotorCommand> makeMotor(const MotorSpec& spec) {
 
 Simulation::Simulation(const SimulationConfig& config)
     : config_(config),
-      stepper_(buildMultiTailRobot(config.geometry), makeEffects(config), config.medium,
-               config.solver),
+      stepper_(buildRobot(config), makeEffects(config), config.medium, config.solver),
       motor_(makeMotor(config.motor)),
       state_(stepper_.initialState()) {
   motor_.setSpeedLaws(stepper_.motorSpeedLaws());
@@ -105,6 +111,9 @@ TrajectorySample Simulation::sample() const {
     s.yaw = std::atan2(forward_h.dot(e2), forward_h.dot(e1));
     s.yaw_rate = up.dot(forward_h.cross(forward_rate_h)) / forward_h.squaredNorm();
   }
+  if (config_.isHelical())  // docs/model.md 8.4.4
+    s.flagellum_tilt =
+        flagellumTilt(state_.q, helixNodes(parts), config_.helical.edgesPerTurn(), axis);
   s.newton_iterations = newton_iterations_;
   s.subdivided_steps = subdivided_steps_;
   s.damped_steps = damped_steps_;
@@ -128,6 +137,7 @@ SummaryMetrics Simulation::summary() const {
   in.up = config_.medium.up;
   in.initial_axis = trajectory_.front().head_axis;
   in.steady_fraction = config_.steady_fraction;
+  in.buckling_tilt = units::degToRad(config_.buckling_tilt_deg);
   if (const Effect* e = stepper_.findEffect("stokes_head")) {
     in.C_t = e->parameters().get("C_t");
     in.C_r = e->parameters().get("C_r");

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <limits>
 
+#include "flagella_sim/core/text_lists.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/core/yaml_fields.h"
 #include "flagella_sim/effects/effect_registry.h"
@@ -14,9 +15,8 @@ namespace {
 
 constexpr double kMaxMotorRpm = 1e4;
 
-void parseRobot(FieldReader r, SimulationConfig& c) {
+void parseMultiTailRobot(FieldReader& r, SimulationConfig& c) {
   MultiTailGeometry& g = c.geometry;
-  c.robot_name = r.choice("type", "multi_tail", {"multi_tail"});
   g.n_tails = r.integer("n_tails", 2, 1, 12);
   g.tail_length = r.number("tail_length", 0.111, 1e-3, 10.0, "m");
   const bool has_edges = r.has("tail_edges");
@@ -48,6 +48,55 @@ void parseRobot(FieldReader r, SimulationConfig& c) {
           " needs one entry per tail (n_tails = " + std::to_string(g.n_tails) + ")");
   if (g.tail_length / g.tail_edges < 1e-5)
     throw ConfigError(r.field("tail_edges") + " gives edges shorter than 10 um");
+}
+
+// robot.pitch_count or robot.axial_length (exclusive) sets L_t / lambda.
+void parseHelixLength(FieldReader& r, HelicalGeometry& g) {
+  if (r.has("pitch_count") && r.has("axial_length"))
+    throw ConfigError(r.field("pitch_count") + " and " + r.field("axial_length") +
+                      " are exclusive: give one");
+  g.pitch_count = r.number("pitch_count", g.pitch_count, kMinPitchCount, kMaxPitchCount);
+  if (r.has("axial_length")) {
+    const double L_t = r.number("axial_length", g.axialLength(), 1e-5, 500.0, "m");
+    requireInRange(r.field("axial_length") + " (0.5 to 50 pitches)", L_t, kMinPitchCount * g.pitch,
+                   kMaxPitchCount * g.pitch, "m");
+    g.pitch_count = L_t / g.pitch;
+  }
+}
+
+// docs/model.md 8.4; defaults (HelicalGeometry): the Shore 32 VPS robot with 3.5 pitches.
+void parseHelicalRobot(FieldReader& r, SimulationConfig& c) {
+  HelicalGeometry& g = c.helical;
+  g.helix_radius = r.number("helix_radius", g.helix_radius, 1e-5, 10.0, "m");
+  g.pitch = r.number("pitch", g.pitch, 1e-5, 10.0, "m");
+  parseHelixLength(r, g);
+  g.flagellum.radius = r.number("filament_radius", g.flagellum.radius, 1e-6, 0.1, "m");
+  g.flagellum.youngs_modulus =
+      r.number("youngs_modulus", g.flagellum.youngs_modulus, 1.0, 1e12, "Pa");
+  g.flagellum.poisson_ratio = r.number("poisson_ratio", g.flagellum.poisson_ratio, 0.0, 0.5);
+  g.flagellum.density = r.number("density", g.flagellum.density, 1.0, 1e5, "kg/m^3");
+  g.edge_length = r.number("edge_length", g.edge_length, 1e-5, 1.0, "m");
+  g.head_radius = r.number("head_radius", g.head_radius, 1e-4, 1.0, "m");
+  g.hook_length = r.number("hook_length", g.hook_length, 0.0, 10.0, "m");
+  g.handedness =
+      r.choice("handedness", "left", {"left", "right"}) == "left" ? kLeftHanded : kRightHanded;
+  g.mount = r.choice("mount", "untethered", {"untethered", "gimbal"}) == "gimbal"
+                ? HelicalMount::kGimbal
+                : HelicalMount::kUntethered;
+  g.rigid_factor = r.number("rigid_factor", g.rigid_factor, 1.0, 1e6);
+  validateHelicalGeometry(g);  // cross-field checks: self-intersection, hook, edge count
+  // docs/model.md 5, 8.4.1: R_H is the sphere-equivalent radius, so the head volume
+  // pi a^2 L_head = 4/3 pi R_H^3 with a = R_H, L_head = 4 R_H / 3.
+  c.head_radius = g.head_radius;
+  c.head_length = 4.0 * g.head_radius / 3.0;
+}
+
+void parseRobot(FieldReader r, SimulationConfig& c) {
+  c.robot_name = r.choice("type", "multi_tail", {"multi_tail", "helical"});
+  if (c.isHelical())
+    parseHelicalRobot(r, c);
+  else
+    parseMultiTailRobot(r, c);
   r.rejectUnknown();
 }
 
@@ -115,6 +164,10 @@ void parseSimulation(FieldReader r, SimulationConfig& c) {
   c.duration = r.number("duration", 10.0, 0.0, 1e6, "s");
   c.output_interval = r.number("output_interval", std::max(c.dt, 0.1), c.dt, 1e6, "s");
   c.steady_fraction = r.number("steady_fraction", 0.5, 0.01, 1.0);
+  c.buckling_tilt_deg = r.number("buckling_tilt_deg", c.buckling_tilt_deg, 0.0, 90.0, "deg");
+  if (c.buckling_tilt_deg <= 0.0 || c.buckling_tilt_deg >= 90.0)
+    throw ConfigError(r.field("buckling_tilt_deg") + " must be in (0, 90) deg, got " +
+                      formatNumber(c.buckling_tilt_deg));
   r.rejectUnknown();
 }
 
@@ -129,8 +182,8 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
   o.trace = r.flag("trace", o.trace);
   r.rejectUnknown();
   // Scale-aware convergence test (docs/model.md 1.10): forces against EI/L^2, moments against EI/L.
-  const double EI = c.geometry.tail_material.EI();
-  const double L = c.geometry.tail_length;
+  const double EI = c.isHelical() ? c.helical.flagellum.EI() : c.geometry.tail_material.EI();
+  const double L = c.isHelical() ? c.helical.axialLength() : c.geometry.tail_length;
   o.force_scale = EI / (L * L);
   o.moment_scale = EI / L;
   o.length_scale = L;
@@ -142,8 +195,9 @@ RobotDimensions SimulationConfig::robotDimensions() const {
   RobotDimensions d;
   d.head_radius = head_radius;
   d.head_length = head_length;
-  d.body_density = geometry.tail_material.density;
-  d.filament_radius = geometry.tail_material.radius;
+  const RodMaterial& filament = isHelical() ? helical.flagellum : geometry.tail_material;
+  d.body_density = filament.density;
+  d.filament_radius = filament.radius;
   return d;
 }
 

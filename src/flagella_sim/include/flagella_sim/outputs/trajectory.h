@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "flagella_sim/core/types.h"
+#include "flagella_sim/core/units.h"
 
 namespace flagella {
 
@@ -25,6 +26,9 @@ struct TrajectorySample {
   Vec3 head_velocity = Vec3::Zero();
   double yaw = 0.0;  ///< azimuth of the forward direction (-t^0) about the world vertical [rad]
   double yaw_rate = 0.0;       ///< its instantaneous rate [rad/s] (docs/model.md 7.1 omega_yr)
+  /// Angle between t^0 and the helix's principal axis [rad] (helical robot only, else 0;
+  /// docs/model.md 8.4.4).
+  double flagellum_tilt = 0.0;
   long newton_iterations = 0;  ///< cumulative since t = 0
   long subdivided_steps = 0;   ///< cumulative count of steps that needed subdivision
   long damped_steps = 0;       ///< cumulative count of (sub)steps solved by the damped retry
@@ -48,6 +52,11 @@ struct SummaryMetrics {
   double axis_path_angle = 0.0;  ///< mean angle between head axis and path tangent [rad]
   double efficiency = 0.0;       ///< eta = 3 C_t v / (4 C_r a omega_h) (0 if no head drag)
   bool efficiency_valid = false;
+  /// Angle between the head axis of the first and of the last sample (whole run) [rad].
+  double heading_change = 0.0;
+  /// Largest flagellum tilt in the steady window [rad] (docs/model.md 8.4.4).
+  double flagellum_tilt_max = 0.0;
+  bool buckled = false;        ///< flagellum_tilt_max > SummaryInputs::buckling_tilt
   long newton_iterations = 0;  ///< over the whole run
   long subdivided_steps = 0;   ///< over the whole run
   long damped_steps = 0;       ///< over the whole run
@@ -58,6 +67,7 @@ struct SummaryInputs {
   Vec3 initial_axis = Vec3::UnitZ();
   double steady_fraction = 0.5;
   double C_t = 0.0, C_r = 0.0, head_radius = 0.0;  ///< for eta; C_r = 0 disables it
+  double buckling_tilt = units::degToRad(15.0);    ///< threshold of `buckled` [rad]
 };
 
 SummaryMetrics summarize(const std::vector<TrajectorySample>& samples, const SummaryInputs& in);

@@ -76,6 +76,9 @@ class Simulation {
   long damped_steps_ = 0;
 };
 
+/// The configured robot: robot.type multi_tail (docs/model.md 8.1-8.3) or helical (8.4).
+RodNetwork buildRobot(const SimulationConfig& config);
+
 /// The motor command a MotorSpec describes.
 std::shared_ptr<const MotorCommand> makeMotor(const MotorSpec& spec);
 

@@ -9,6 +9,7 @@
 #include "flagella_sim/effects/effect_descriptor.h"
 #include "flagella_sim/effects/medium.h"
 #include "flagella_sim/effects/rft_coefficients.h"
+#include "flagella_sim/robots/helical_robot.h"
 #include "flagella_sim/robots/multi_tail_robot.h"
 #include "flagella_sim/solver/newton_options.h"
 
@@ -24,10 +25,11 @@ struct MotorSpec {
 
 struct SimulationConfig {
   std::string source = "<inline>";  ///< file name, for messages
-  std::string robot_name;
-  MultiTailGeometry geometry;
-  double head_radius = 0.02;  ///< a (or R): head drag radius [m]
-  double head_length = 0.04;  ///< L_head [m]
+  std::string robot_name = "multi_tail";  ///< robot.type: multi_tail | helical
+  MultiTailGeometry geometry;             ///< robot.type multi_tail (docs/model.md 8.1-8.3)
+  HelicalGeometry helical;                ///< robot.type helical (docs/model.md 8.4)
+  double head_radius = 0.02;              ///< a (or R): head drag radius [m] (helical: R_H)
+  double head_length = 0.04;              ///< L_head [m] (helical: 4 R_H / 3, the sphere's volume)
   Medium medium;
   std::vector<EffectSpec> effects;
   MotorSpec motor;
@@ -35,8 +37,11 @@ struct SimulationConfig {
   double duration = 10.0;
   double output_interval = 0.1;
   double steady_fraction = 0.5;  ///< last fraction of the run used for summary metrics
+  /// Flagellum tilt above which a run counts as buckled [deg] (docs/model.md 8.4.4).
+  double buckling_tilt_deg = 15.0;
   NewtonOptions solver;
 
+  bool isHelical() const { return robot_name == "helical"; }
   /// The robot's sizes effects take their defaults from.
   RobotDimensions robotDimensions() const;
 };
