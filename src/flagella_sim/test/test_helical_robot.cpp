@@ -410,7 +410,9 @@ TEST(HelicalConfig, ShippedRobotConfigParses) {
   EXPECT_DOUBLE_EQ(g.flagellum.youngs_modulus, kYoungsModulus);
   EXPECT_EQ(g.handedness, kLeftHanded);
   EXPECT_EQ(g.mount, HelicalMount::kUntethered);
-  EXPECT_TRUE(c.medium.gravity.isZero(0.0));
+  // Gravity acts only through com_offset (no gravity effect: neutrally buoyant, docs/model.md 5).
+  EXPECT_NEAR(c.medium.gravity.dot(c.medium.up), -9.81, 1e-12);
+  for (const EffectSpec& e : c.effects) EXPECT_NE(e.name, "gravity");
   // head drag radius R_H and the sphere's volume pi a^2 L_head = 4/3 pi R_H^3
   const RobotDimensions d = c.robotDimensions();
   EXPECT_DOUBLE_EQ(d.head_radius, kHeadRadius);
@@ -544,10 +546,11 @@ TEST(HelicalRun, ShortUntetheredRunStaysFinite) {
   const TrajectorySample& last = sim.trajectory().back();
   EXPECT_GT(last.tail_angle, 0.0);
   EXPECT_LE(last.head_angle, 0.0);
-  EXPECT_LT(units::radToDeg(last.flagellum_tilt), 1.0);
+  // Far below the 15 deg buckling tilt: the off-axis hook bends and the head wobbles slightly.
+  EXPECT_LT(units::radToDeg(last.flagellum_tilt), 5.0);
   const SummaryMetrics m = sim.summary();
   EXPECT_TRUE(std::isfinite(m.heading_change));
-  EXPECT_LT(units::radToDeg(m.heading_change), 1.0);
+  EXPECT_LT(units::radToDeg(m.heading_change), 5.0);
   EXPECT_FALSE(m.buckled);
 }
 
@@ -564,8 +567,7 @@ TEST(HelicalRun, GimbalHoldsPivotAndHeadRoll) {
 }
 
 // docs/model.md 8.4.1: a left-handed helix turned by omega_T > 0 pushes the robot head first
-// (toward -z), a right-handed one needs omega_T < 0. RFT on the flagellum chain stands in for the
-// regularized Stokeslets here (both give a rotating helix its screw-like thrust).
+// (toward -z), a right-handed one needs omega_T < 0, with the shipped RSS hydrodynamics.
 TEST(HelicalRun, HandednessAndMotorSignDecidePusherMode) {
   struct Case {
     const char* handedness;
@@ -578,7 +580,7 @@ TEST(HelicalRun, HandednessAndMotorSignDecidePusherMode) {
     const SimulationConfig c = loadSimulationConfig(
         shippedConfig("helical_robot.yaml"),
         {std::string("robot.handedness=") + k.handedness, std::string("motor.omega_rpm=") + k.rpm,
-         "motor.ramp_time=0.2", "effects.rft.log_form=2L/r0", "simulation.duration=2"});
+         "motor.ramp_time=0.2", "simulation.duration=1.5"});
     Simulation sim(c);
     sim.run(c.duration);
     const double forward = -sim.trajectory().back().head_position.z();  // along -t^0 at rest

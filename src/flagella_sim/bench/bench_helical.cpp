@@ -1,0 +1,159 @@
+// Benchmark program for the helical robot with RSS hydrodynamics (docs/model.md 4, 8.4): real-time
+// factor, a per-part breakdown of one step's cost, the growth of the cost with node count, and
+// the dt accuracy of speed and head rate (dt = 1e-2 s against 1e-3 s). Prints figures; asserts
+// nothing. Usage: flagella_bench_helical [CONFIG_DIR] [--quick]
+#include <Eigen/LU>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "flagella_sim/core/sparse_assembler.h"
+#include "flagella_sim/core/units.h"
+#include "flagella_sim/effects/rss_hydrodynamics.h"
+#include "flagella_sim/elastic/bend_twist_energy.h"
+#include "flagella_sim/elastic/stretching_energy.h"
+#include "flagella_sim/hydro/rss_solver.h"
+#include "flagella_sim/outputs/fits.h"
+#include "flagella_sim/simulation/simulation.h"
+
+using namespace flagella;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsOf(const std::function<void()>& work, int repeats) {
+  const auto t0 = Clock::now();
+  for (int r = 0; r < repeats; ++r) work();
+  return std::chrono::duration<double>(Clock::now() - t0).count() / repeats;
+}
+
+// Median wall time per step over `steps` steps after `warm` steps.
+double secondsPerStep(Simulation& sim, long warm, long steps) {
+  for (long k = 0; k < warm; ++k) sim.step();
+  std::vector<double> per;
+  for (long k = 0; k < steps; ++k) per.push_back(secondsOf([&] { sim.step(); }, 1));
+  std::sort(per.begin(), per.end());
+  return per[per.size() / 2];
+}
+
+void breakdown(const SimulationConfig& config) {
+  Simulation sim(config);
+  for (int k = 0; k < 50; ++k) sim.step();  // a rotating, deformed state
+  const RodNetwork& net = sim.network();
+  const RodState& s = sim.state();
+  const auto* rss = dynamic_cast<const RssHydrodynamics*>(sim.stepper().findEffect("rss"));
+  if (!rss) {
+    std::printf("(no rss effect in the config: no breakdown)\n");
+    return;
+  }
+  rss::Polyline line;
+  for (int node : rss->nodes()) line.push_back(nodePosition(s.q, node));
+  const double eps = rss->parameters().get("eps");
+  MatX ablk;
+  const double build = secondsOf([&] { ablk = rss::assembleRssMatrix(line, eps); }, 20);
+  Eigen::PartialPivLU<MatX> lu;
+  const double factor = secondsOf([&] { lu.compute(ablk); }, 20);
+  MatX inverse;
+  const double invert = secondsOf([&] { inverse = lu.inverse(); }, 20);
+  SparseAssembler assembler(net.ndof());
+  VecX gradient = VecX::Zero(net.ndof());
+  const double elastic = secondsOf(
+      [&] {
+        assembler.begin();
+        gradient.setZero();
+        addStretchingGradientHessian(net, s.q, gradient, &assembler);
+        addBendTwistGradientHessian(net, s.q, s.frames, gradient, &assembler, {});
+        assembler.finish();
+      },
+      50);
+  MatX jacobian = MatX(assembler.matrix()) + MatX::Identity(net.ndof(), net.ndof());
+  Eigen::PartialPivLU<MatX> newton;
+  const double solve = secondsOf([&] { newton.compute(jacobian); }, 20);
+  const double step = secondsPerStep(sim, 0, 100);
+  const double per_iteration_steps = static_cast<double>(sim.summary().newton_iterations);
+  (void)per_iteration_steps;
+  std::printf("per-part cost (%zu RSS nodes, %d DOFs):\n", line.size(), net.ndof());
+  std::printf("  RSS matrix build          %9.1f us  (once per step)\n", 1e6 * build);
+  std::printf("  RSS LU factorisation      %9.1f us  (once per step)\n", 1e6 * factor);
+  std::printf("  RSS drag matrix (inverse) %9.1f us  (once per step)\n", 1e6 * invert);
+  std::printf("  elastic assembly          %9.1f us  (per Newton iteration)\n", 1e6 * elastic);
+  std::printf("  dense Newton LU           %9.1f us  (per Newton iteration)\n", 1e6 * solve);
+  std::printf("  whole step (median)       %9.1f us\n", 1e6 * step);
+}
+
+struct Swim {
+  double speed_mm_s, omega_h_rpm, seconds_per_step;
+};
+
+Swim swim(const std::string& path, std::vector<std::string> overrides, double dt, double duration) {
+  overrides.push_back("simulation.dt=" + std::to_string(dt));
+  overrides.push_back("simulation.duration=" + std::to_string(duration));
+  const SimulationConfig config = loadSimulationConfig(path, overrides);
+  Simulation sim(config);
+  const auto t0 = Clock::now();
+  sim.run(config.duration);
+  const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+  const SummaryMetrics m = sim.summary();
+  return {units::metresToMm(m.speed), units::radPerSecToRpm(m.omega_h),
+          wall / std::lround(duration / dt)};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string config_dir = "config";
+  bool quick = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--quick")
+      quick = true;
+    else
+      config_dir = a;
+  }
+  const std::string robot = config_dir + "/helical_robot.yaml";
+  std::printf("helical robot benchmark (one core), %s\n\n", robot.c_str());
+  const std::vector<std::string> base{"motor.omega_rpm=30"};
+  const SimulationConfig config = loadSimulationConfig(robot, base);
+  breakdown(config);
+
+  std::printf("\nreal-time factor at dt = 1e-2 s (30 rpm, 3.5 pitches):\n");
+  {
+    Simulation sim(config);
+    const double per_step = secondsPerStep(sim, 100, quick ? 100 : 500);
+    std::printf("  %.1f us/step, %.2fx real time\n", 1e6 * per_step, config.dt / per_step);
+  }
+
+  std::printf("\ncost against node count (dt = 1e-2 s):\n%12s %8s %8s %12s\n", "edge [mm]", "nodes",
+              "DOFs", "us/step");
+  std::vector<double> log_nodes, log_time;
+  for (double dl : {10.0, 7.0, 5.0, 3.5}) {
+    std::vector<std::string> ov = base;
+    ov.push_back("robot.edge_length=" + std::to_string(dl * 1e-3));
+    Simulation sim(loadSimulationConfig(robot, ov));
+    const double per_step = secondsPerStep(sim, 20, quick ? 30 : 100);
+    std::printf("%12.1f %8d %8d %12.1f\n", dl, sim.network().numNodes(), sim.network().ndof(),
+                1e6 * per_step);
+    log_nodes.push_back(std::log(sim.network().numNodes()));
+    log_time.push_back(std::log(per_step));
+  }
+  std::printf("scaling exponent (time per step ~ nodes^p): p = %.2f\n",
+              fitLine(log_nodes, log_time).slope);
+
+  const double duration = quick ? 4.0 : 20.0;
+  std::printf("\ndt accuracy (30 rpm, %.0f s, steady window = last half):\n", duration);
+  const Swim coarse = swim(robot, base, 1e-2, duration);
+  const Swim fine = swim(robot, base, 1e-3, duration);
+  std::printf("  dt = 1e-2: v = %.5f mm/s, omega_h = %.4f rpm (%.0f us/step)\n", coarse.speed_mm_s,
+              coarse.omega_h_rpm, 1e6 * coarse.seconds_per_step);
+  std::printf("  dt = 1e-3: v = %.5f mm/s, omega_h = %.4f rpm (%.0f us/step)\n", fine.speed_mm_s,
+              fine.omega_h_rpm, 1e6 * fine.seconds_per_step);
+  std::printf("  relative difference: v %.2f %%, omega_h %.2f %%\n",
+              100.0 * (coarse.speed_mm_s - fine.speed_mm_s) / fine.speed_mm_s,
+              100.0 * (coarse.omega_h_rpm - fine.omega_h_rpm) / fine.omega_h_rpm);
+  return 0;
+}
