@@ -75,7 +75,10 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--omega-rpm", sweep.omega_rpm, "motor speeds [rpm]")
       ->delimiter(',')
       ->required();
-  sweep_cmd->add_option("--n-tails", sweep.n_tails, "tail counts")->delimiter(',')->required();
+  sweep_cmd
+      ->add_option("--n-tails", sweep.n_tails,
+                   "tail counts (multi-tail robots; default: the config's, one line)")
+      ->delimiter(',');
   sweep_cmd->add_option("--jobs", sweep.jobs, "parallel runs")->capture_default_str();
   sweep.plot_script = FLAGELLA_PLOT_SCRIPT;
   sweep_cmd->add_option("--plot-script", sweep.plot_script, "matplotlib plot script ('' to skip)")

@@ -143,14 +143,18 @@ int sweepCommand(const SweepOptions& o) {
   };
   std::vector<Case> cases;
   // Every case is loaded (and validated) before any runs, so bad input fails fast with exit 2.
-  for (int n : o.n_tails)
+  // Without --n-tails the config's own robot is swept (the helical robot has one flagellum).
+  const std::vector<int> tails = o.n_tails.empty() ? std::vector<int>{0} : o.n_tails;
+  for (int n : tails)
     for (double rpm : o.omega_rpm) {
       std::vector<std::string> overrides = o.overrides;
-      overrides.push_back("robot.n_tails=" + std::to_string(n));
+      if (n > 0) overrides.push_back("robot.n_tails=" + std::to_string(n));
       std::ostringstream omega;
       omega << std::setprecision(17) << rpm;
       overrides.push_back("motor.omega_rpm=" + omega.str());
-      cases.push_back({n, rpm, loadSimulationConfig(o.config, overrides), {}});
+      SimulationConfig config = loadSimulationConfig(o.config, overrides);
+      const int count = config.isHelical() ? 1 : config.geometry.n_tails;
+      cases.push_back({count, rpm, std::move(config), {}});
     }
   std::filesystem::create_directories(o.out_dir);
   std::mutex mutex;
@@ -189,13 +193,15 @@ int sweepCommand(const SweepOptions& o) {
   const std::string table = o.out_dir + "/sweep.csv";
   std::ofstream out(table);
   out << "n_tails,omega_T_rpm,omega_h_rpm,omega_t_rpm,speed_mm_s,yaw_rate_rad_s,efficiency,solver_"
-         "failure\n";
+         "failure,flagellum_tilt_max_deg,buckled\n";
   for (const Case& c : cases) {
     const SummaryMetrics& m = c.result.summary;
     out << c.n << "," << c.rpm << "," << units::radPerSecToRpm(m.omega_h) << ","
         << units::radPerSecToRpm(m.omega_t) << "," << units::metresToMm(m.speed) << ","
         << m.yaw_rate << "," << (m.efficiency_valid ? std::to_string(m.efficiency) : "") << ","
-        << (c.result.failed ? 1 : 0) << "\n";
+        << (c.result.failed ? 1 : 0) << ","
+        << (c.config.isHelical() ? std::to_string(units::radToDeg(m.flagellum_tilt_max)) : "")
+        << "," << (c.config.isHelical() ? (m.buckled ? "1" : "0") : "") << "\n";
   }
   out.close();
   std::printf("sweep table: %s\n", table.c_str());
