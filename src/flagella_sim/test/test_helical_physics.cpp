@@ -1,0 +1,139 @@
+// The helical robot with RSS hydrodynamics against balance laws and a similarity law
+// (docs/model.md 4, 8.4): momentum balance of a step, force- and torque-free swimming, the gimbal's
+// motor torque against the hydrodynamic torque on the flagellum, and the overdamped scaling that
+// makes the buckling threshold proportional to E/mu.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "flagella_sim/core/units.h"
+#include "flagella_sim/simulation/simulation.h"
+
+namespace flagella {
+namespace {
+
+constexpr char kConfigDir[] = FLAGELLA_CONFIG_DIR;
+
+SimulationConfig config(const std::string& name, const std::vector<std::string>& overrides) {
+  return loadSimulationConfig(std::string(kConfigDir) + "/" + name, overrides);
+}
+
+// The external generalised forces of the step start -> end (every effect, as the stepper sees
+// them at the converged iterate).
+VecX externalForces(const Simulation& sim, const RodState& start, const RodState& end) {
+  const ImplicitStepper& st = sim.stepper();
+  VecX F = VecX::Zero(sim.network().ndof());
+  const EffectContext ctx{sim.network(), end.q,       end.frames,
+                          start.q,       start.qdot,  sim.config().dt,
+                          end.time,      st.medium(), st.currentViscosity()};
+  for (const EffectPtr& e : st.effects()) e->addForce(ctx, F, nullptr);
+  return F;
+}
+
+Vec3 totalForce(const RodNetwork& net, const VecX& F) {
+  Vec3 sum = Vec3::Zero();
+  for (int i = 0; i < net.numNodes(); ++i) sum += F.segment<3>(3 * i);
+  return sum;
+}
+
+double sumOfMagnitudes(const RodNetwork& net, const VecX& F) {
+  double sum = 0.0;
+  for (int i = 0; i < net.numNodes(); ++i) sum += F.segment<3>(3 * i).norm();
+  return sum;
+}
+
+TEST(HelicalPhysics, UntetheredRobotSwimsForceAndTorqueFree) {
+  Simulation sim(config("helical_robot.yaml", {"motor.omega_rpm=10", "robot.edge_length=8e-3"}));
+  sim.run(4.0);  // ramp 1 s, then about 3 s of steady swimming
+  const RodState start = sim.state();
+  sim.step();
+  const RodState& end = sim.state();
+  const RodNetwork& net = sim.network();
+  const VecX F = externalForces(sim, start, end);
+  // Momentum balance of the implicit step: elastic forces are internal, so the external force
+  // equals the change of momentum (docs/model.md 1.10).
+  Vec3 momentum_change = Vec3::Zero();
+  for (int i = 0; i < net.numNodes(); ++i)
+    momentum_change += net.lumped_mass(3 * i) *
+                       (end.qdot.segment<3>(3 * i) - start.qdot.segment<3>(3 * i)) /
+                       sim.config().dt;
+  const double scale = sumOfMagnitudes(net, F);
+  ASSERT_GT(scale, 0.0);
+  EXPECT_LT((totalForce(net, F) - momentum_change).norm(), 1e-6 * scale);
+  // Zero Reynolds number: inertia is negligible, so the robot is force-free.
+  EXPECT_LT(totalForce(net, F).norm(), 0.01 * scale);
+  // Torque-free about x_1: node forces plus the head's spin moment M t^0 (docs/model.md 3.1).
+  const Vec3 x1 = nodePosition(end.q, net.parts.head_center_node);
+  Vec3 torque = F(net.thetaIndex(net.parts.head_edge)) * end.frames.tangent[net.parts.head_edge];
+  double torque_scale = 0.0;
+  for (int i = 0; i < net.numNodes(); ++i) {
+    const Vec3 arm = nodePosition(end.q, i) - x1;
+    torque += arm.cross(F.segment<3>(3 * i));
+    torque_scale += arm.norm() * F.segment<3>(3 * i).norm();
+  }
+  EXPECT_LT(torque.norm(), 0.01 * torque_scale);
+}
+
+TEST(HelicalPhysics, GimbalMotorTorqueEqualsHydrodynamicTorque) {
+  Simulation sim(config("helical_gimbal.yaml", {"motor.omega_rpm=3", "robot.edge_length=8e-3"}));
+  sim.run(4.0);
+  const RodState start = sim.state();
+  sim.step();
+  const RodState& end = sim.state();
+  const RodNetwork& net = sim.network();
+  const VecX F = externalForces(sim, start, end);
+  // Axial hydrodynamic torque on the flagellum about the head axis through x_1.
+  const Vec3 t = end.frames.tangent[net.parts.head_edge];
+  const Vec3 x1 = nodePosition(end.q, net.parts.head_center_node);
+  double hydro = 0.0;
+  for (int i : net.parts.tail_nodes.front())
+    hydro += t.dot((nodePosition(end.q, i) - x1).cross(F.segment<3>(3 * i)));
+  const MotorLoad load =
+      sim.stepper().motorLoad(end, sim.lastMotorCommand(), end.time + sim.config().dt);
+  ASSERT_GT(std::abs(hydro), 0.0);
+  // The motor spring's moment on the (fixed) housing balances the fluid's torque on the
+  // flagellum, up to the small rotational inertia of the spinning parts.
+  EXPECT_NEAR(std::abs(load.head_moment), std::abs(hydro), 0.01 * std::abs(hydro))
+      << "motor " << load.head_moment << " N m, hydrodynamic " << hydro << " N m";
+}
+
+// Overdamped similarity (docs/model.md 8.4.4): without inertia, (E, mu, omega, t) and
+// (2E, mu, 2 omega, t/2) and (E, mu/2, 2 omega, t/2) give the same shapes, so every threshold
+// in omega scales as E/mu.
+TEST(HelicalPhysics, ThresholdScalesAsYoungsModulusOverViscosity) {
+  struct Run {
+    double E_factor, mu_factor, time_factor;
+  };
+  const double E = 1.225e6, mu = 1.03, omega = 6.0, duration = 6.0, dt = 0.01, ramp = 1.0;
+  std::vector<std::vector<Vec3>> shapes;
+  std::vector<double> tilts;
+  for (const Run& r : {Run{1, 1, 1}, Run{2, 1, 0.5}, Run{1, 0.5, 0.5}}) {
+    const double tf = r.time_factor;
+    Simulation sim(config(
+        "helical_gimbal.yaml",
+        {"robot.edge_length=8e-3", "robot.youngs_modulus=" + std::to_string(E * r.E_factor),
+         "medium.viscosity=" + std::to_string(mu * r.mu_factor),
+         "motor.omega_rpm=" + std::to_string(omega / tf),
+         "motor.ramp_time=" + std::to_string(ramp * tf), "simulation.dt=" + std::to_string(dt * tf),
+         "simulation.output_interval=" + std::to_string(0.1 * tf)}));
+    sim.run(duration * tf);
+    std::vector<Vec3> shape;
+    for (int i = 0; i < sim.network().numNodes(); ++i)
+      shape.push_back(nodePosition(sim.state().q, i));
+    shapes.push_back(shape);
+    tilts.push_back(units::radToDeg(sim.trajectory().back().flagellum_tilt));
+  }
+  ASSERT_GT(tilts[0], 1.0);  // deformed enough to compare
+  for (size_t k = 1; k < shapes.size(); ++k) {
+    double worst = 0.0;
+    for (size_t i = 0; i < shapes[0].size(); ++i)
+      worst = std::max(worst, (shapes[k][i] - shapes[0][i]).norm());
+    EXPECT_LT(worst, 2e-4) << "run " << k << ": largest node offset " << worst << " m";
+    EXPECT_NEAR(tilts[k], tilts[0], 0.01 * tilts[0]);
+  }
+}
+
+}  // namespace
+}  // namespace flagella
