@@ -14,6 +14,7 @@
 
 #include "flagella_sim/analysis/buckling_probe.h"
 #include "flagella_sim/core/units.h"
+#include "plot_command.h"
 
 namespace {
 
@@ -159,15 +160,7 @@ int sweep(const Options& o) {
   }
   csv.close();
   std::printf("sweep table: %s\n", table.c_str());
-  if (!o.plot_script.empty()) {
-    const std::string png = o.out_dir + "/buckling_sweep.png";
-    const std::string cmd =
-        "/usr/bin/python3 '" + o.plot_script + "' '" + table + "' '" + png + "'";
-    if (std::system(cmd.c_str()) == 0)
-      std::printf("sweep plot: %s\n", png.c_str());
-    else
-      std::fprintf(stderr, "warning: plotting failed (%s)\n", cmd.c_str());
-  }
+  flagella::cli::plotTable(o.plot_script, table, o.out_dir + "/buckling_sweep.png");
   for (const ThresholdResult& r : results)
     if (!r.found) return 3;
   return 0;

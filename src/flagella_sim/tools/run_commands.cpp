@@ -16,6 +16,7 @@
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/outputs/output_writers.h"
 #include "flagella_sim/simulation/simulation.h"
+#include "plot_command.h"
 #include "summary_json.h"
 
 namespace flagella::cli {
@@ -205,15 +206,7 @@ int sweepCommand(const SweepOptions& o) {
   }
   out.close();
   std::printf("sweep table: %s\n", table.c_str());
-  if (!o.plot_script.empty()) {
-    const std::string png = o.out_dir + "/sweep.png";
-    const std::string cmd =
-        "/usr/bin/python3 '" + o.plot_script + "' '" + table + "' '" + png + "'";
-    if (std::system(cmd.c_str()) == 0)
-      std::printf("sweep plot: %s\n", png.c_str());
-    else
-      std::fprintf(stderr, "warning: plotting failed (%s)\n", cmd.c_str());
-  }
+  flagella::cli::plotTable(o.plot_script, table, o.out_dir + "/sweep.png");
   int status = 0;
   for (const Case& c : cases)
     if (c.result.failed) {

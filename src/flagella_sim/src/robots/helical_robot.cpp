@@ -7,6 +7,7 @@
 
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/text_lists.h"
+#include "flagella_sim/robots/rigid_head.h"
 
 namespace flagella {
 
@@ -132,25 +133,13 @@ RodNetwork buildHelicalRobot(const HelicalGeometry& g) {
   const double k = g.rigid_factor;
   // docs/model.md 8.4.1: head axis +z, x_0 = (0,0,-R_H), x_1 = 0 (head centre), x_2 = (0,0,R_H);
   // the plate e^2 = x_2 -> x_3 is radial along +x, of length R_t.
-  const int x0 = b.addNode(Vec3(0, 0, -g.head_radius));
-  const int x1 = b.addNode(Vec3::Zero());
-  const int x2 = b.addNode(Vec3(0, 0, g.head_radius));
+  const RigidHead head = addRigidHead(b, g.head_radius, m, k);  // T0 at x_1: the motor (1.9)
   const int x3 = b.addNode(Vec3(g.helix_radius, 0, g.head_radius));
   // Rigid stretching of e^0, e^1 and the plate e^2 (docs/model.md 8.4.1 [ASSUMED] for e^2).
-  const int e0 = b.addEdge(x0, x1, m, k);
-  const int e1 = b.addEdge(x1, x2, m, k);
-  const int e2 = b.addEdge(x2, x3, m, k);
-  RobotParts& parts = b.parts();
-  parts.head_front_node = x0;
-  parts.head_center_node = x1;
-  parts.joint_node = x2;
-  parts.head_edge = e0;
-  parts.shaft_edge = e1;
-  parts.head_nodes = {x0, x1, x2};
-  parts.motor_spring = b.addBendTwistSpring(e0, e1, m, k);  // T0 at x_1: the motor (1.9)
-  b.addBendTwistSpring(e1, e2, m, k);                       // T1 at x_2
+  const int e2 = b.addEdge(head.x2, x3, m, k);
+  b.addBendTwistSpring(head.e1, e2, m, k);  // T1 at x_2
   addFlagellum(b, g, e2, x3);
-  RodNetwork net = b.build(e0);
+  RodNetwork net = b.build(head.e0);
   setHeadMasses(net);
   if (g.mount == HelicalMount::kGimbal) fixGimbal(net);
   return net;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/robots/rigid_head.h"
 
 namespace flagella {
 
@@ -24,20 +25,9 @@ RodNetwork buildMultiTailRobot(const MultiTailGeometry& g) {
   const RodMaterial& m = g.tail_material;
   const double h = g.head_edge_length;
   // docs/model.md 8.1: x_0 = (0,0,-a), x_1 = 0, x_2 = (0,0,+a); tails extend toward +z
-  const int x0 = b.addNode(Vec3(0, 0, -h));
-  const int x1 = b.addNode(Vec3(0, 0, 0));
-  const int x2 = b.addNode(Vec3(0, 0, h));
-  const int e0 = b.addEdge(x0, x1, m, g.rigid_factor);
-  const int e1 = b.addEdge(x1, x2, m, g.rigid_factor);
+  const RigidHead head = addRigidHead(b, h, m, g.rigid_factor);
+  const int x2 = head.x2, e0 = head.e0, e1 = head.e1;
   RobotParts& parts = b.parts();
-  parts.head_front_node = x0;
-  parts.head_center_node = x1;
-  parts.joint_node = x2;
-  parts.head_edge = e0;
-  parts.shaft_edge = e1;
-  parts.motor_spring =
-      b.addBendTwistSpring(e0, e1, m, g.rigid_factor);  // docs/model.md 1.9: motor at x_1
-  parts.head_nodes = {x0, x1, x2};
 
   std::vector<int> spokes;
   for (int k = 0; k < g.n_tails; ++k) {

@@ -1,0 +1,20 @@
+// Runs a matplotlib plot script on a CSV table (the tools' sweep plots): prints where the plot
+// went, or a warning if plotting failed (the table is still there).
+#pragma once
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace flagella::cli {
+
+inline void plotTable(const std::string& script, const std::string& table, const std::string& png) {
+  if (script.empty()) return;
+  const std::string cmd = "/usr/bin/python3 '" + script + "' '" + table + "' '" + png + "'";
+  if (std::system(cmd.c_str()) == 0)
+    std::printf("sweep plot: %s\n", png.c_str());
+  else
+    std::fprintf(stderr, "warning: plotting failed (%s)\n", cmd.c_str());
+}
+
+}  // namespace flagella::cli
