@@ -136,7 +136,8 @@ TEST(HelicalPhysics, ThresholdScalesAsYoungsModulusOverViscosity) {
 }
 
 // Convergence in edge length (docs/model.md 4.3, 8.4.1): the swimming speed and head rate settle
-// as the edges shrink, the change from 7 -> 5 mm below 3/4 of the change from 10 -> 7 mm (measured: about 1/2).
+// as the edges shrink, the change from 7 -> 5 mm below 3/4 of the change from 10 -> 7 mm (measured:
+// about 1/2).
 TEST(HelicalPhysics, SpeedConvergesInEdgeLength) {
   std::vector<double> speed, head;
   for (const char* dl : {"10e-3", "7e-3", "5e-3"}) {
