@@ -117,11 +117,11 @@ int main(int argc, char** argv) {
   }
   const std::string robot = config_dir + "/helical_robot.yaml";
   std::printf("helical robot benchmark (one core), %s\n\n", robot.c_str());
-  const std::vector<std::string> base{"motor.omega_rpm=30"};
+  const std::vector<std::string> base{"motor.omega_rpm=10"};  // cruise, below the threshold
   const SimulationConfig config = loadSimulationConfig(robot, base);
   breakdown(config);
 
-  std::printf("\nreal-time factor at dt = 1e-2 s (30 rpm, 3.5 pitches):\n");
+  std::printf("\nreal-time factor at dt = 1e-2 s (10 rpm, 3.5 pitches):\n");
   {
     Simulation sim(config);
     const double per_step = secondsPerStep(sim, 100, quick ? 100 : 500);
@@ -145,7 +145,7 @@ int main(int argc, char** argv) {
               fitLine(log_nodes, log_time).slope);
 
   const double duration = quick ? 4.0 : 20.0;
-  std::printf("\ndt accuracy (30 rpm, %.0f s, steady window = last half):\n", duration);
+  std::printf("\ndt accuracy (10 rpm, %.0f s, steady window = last half):\n", duration);
   const Swim coarse = swim(robot, base, 1e-2, duration);
   const Swim fine = swim(robot, base, 1e-3, duration);
   std::printf("  dt = 1e-2: v = %.5f mm/s, omega_h = %.4f rpm (%.0f us/step)\n", coarse.speed_mm_s,
