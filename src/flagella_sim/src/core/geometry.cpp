@@ -26,6 +26,10 @@ Vec3 parallelTransport(const Vec3& u, const Vec3& a, const Vec3& b) {
   return u.dot(a) * b + u.dot(n1) * n2 + u.dot(bhat) * bhat;
 }
 
+double angleBetween(const Vec3& u, const Vec3& v) {
+  return std::atan2(u.cross(v).norm(), u.dot(v));
+}
+
 double signedAngle(const Vec3& u, const Vec3& v, const Vec3& n) {
   const Vec3 w = u.cross(v);
   const double angle = std::atan2(w.norm(), u.dot(v));

@@ -18,9 +18,7 @@ constexpr double kMinPathSpeed = 1e-12;
 // (samples from `first` on).
 void addTurnAndBucklingMetrics(const std::vector<TrajectorySample>& samples, size_t first,
                                const SummaryInputs& in, SummaryMetrics& m) {
-  const Vec3& a = samples.front().head_axis;
-  const Vec3& b = samples.back().head_axis;
-  m.heading_change = std::atan2(a.cross(b).norm(), a.dot(b));
+  m.heading_change = angleBetween(samples.front().head_axis, samples.back().head_axis);
   for (size_t i = first; i < samples.size(); ++i)
     m.flagellum_tilt_max = std::max(m.flagellum_tilt_max, samples[i].flagellum_tilt);
   m.buckled = m.flagellum_tilt_max > in.buckling_tilt;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "flagella_sim/core/geometry.h"
 #include "flagella_sim/rod/rod_network.h"
 
 namespace flagella {
@@ -54,8 +55,7 @@ double flagellumTilt(const VecX& q, const std::vector<int>& helix_nodes, double 
   const std::vector<Vec3> centre = helixCentreLine(points, edges_per_turn);
   const Vec3 t = head_axis.normalized();
   const Vec3 axis = principalAxis(centre.size() >= 2 ? centre : points, t);
-  // atan2 of |cross| and dot: accurate for small angles, unlike acos
-  return std::atan2(t.cross(axis).norm(), t.dot(axis));
+  return angleBetween(t, axis);
 }
 
 }  // namespace flagella

@@ -12,6 +12,10 @@ Mat3 skew(const Vec3& a);
 /// Returns u unchanged when a and b are (nearly) parallel.
 Vec3 parallelTransport(const Vec3& u, const Vec3& a, const Vec3& b);
 
+/// Unsigned angle between u and v in [0, pi]: atan2(|u x v|, u.v), accurate for small angles
+/// (unlike acos).
+double angleBetween(const Vec3& u, const Vec3& v);
+
 /// Signed angle from u to v about axis n: atan2(|u x v|, u.v) * sign(n.(u x v))
 /// (docs/model.md 1.3).
 double signedAngle(const Vec3& u, const Vec3& v, const Vec3& n);
