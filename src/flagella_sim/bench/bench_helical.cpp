@@ -75,8 +75,6 @@ void breakdown(const SimulationConfig& config) {
   Eigen::PartialPivLU<MatX> newton;
   const double solve = secondsOf([&] { newton.compute(jacobian); }, 20);
   const double step = secondsPerStep(sim, 0, 100);
-  const double per_iteration_steps = static_cast<double>(sim.summary().newton_iterations);
-  (void)per_iteration_steps;
   std::printf("per-part cost (%zu RSS nodes, %d DOFs):\n", line.size(), net.ndof());
   std::printf("  RSS matrix build          %9.1f us  (once per step)\n", 1e6 * build);
   std::printf("  RSS LU factorisation      %9.1f us  (once per step)\n", 1e6 * factor);

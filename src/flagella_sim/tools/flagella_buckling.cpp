@@ -78,7 +78,7 @@ void printRun(const std::string& prefix, const ThresholdProbe& p) {
 }
 
 ThresholdResult search(const SimulationConfig& c, const Options& o, const std::string& prefix) {
-  std::mutex print;
+  static std::mutex print;  // one lock for every search: sweep threads print whole lines
   return flagella::findThreshold([&](double rpm) { return flagella::runBucklingProbe(c, rpm); },
                                  o.search,
                                  [&](const ThresholdProbe& p) {
