@@ -103,7 +103,8 @@ std::pair<double, double> dominantPeriod(const std::vector<double>& t, std::vect
 
 std::pair<std::string, double> displayUnit(const std::string& output) {
   if (output == "v") return {"mm/s", 1e3};
-  if (output == "omega_h" || output == "omega_t") return {"rpm", units::kRpmPerRadPerSec};
+  if (output == "omega_h" || output == "omega_t" || output == "buckling_threshold")
+    return {"rpm", units::kRpmPerRadPerSec};
   if (output == "omega_yr") return {"rad/s", 1.0};
   if (output == "R_yr" || output == "x" || output == "y" || output == "z") return {"mm", 1e3};
   if (output.rfind("axis_", 0) == 0) return {"", 1.0};

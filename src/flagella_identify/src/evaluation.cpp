@@ -8,6 +8,8 @@
 #include <type_traits>
 
 #include "flagella_sim/actuation/motor_command.h"
+#include "flagella_sim/analysis/buckling_probe.h"
+#include "flagella_sim/core/units.h"
 #include "flagella_sim/simulation/simulation.h"
 
 namespace flagella {
@@ -74,6 +76,27 @@ std::vector<ConfigOverride> allOverrides(const std::vector<ConfigOverride>& a,
   std::vector<ConfigOverride> all = a;
   all.insert(all.end(), b.begin(), b.end());
   return all;
+}
+
+/// The model's buckling threshold [rad/s] for a measured one (docs/model.md 8.4.4): runs of
+/// `cfg` classified by the flagellum's largest tilt in the last `window` seconds, at rates on the
+/// grid measured x kThresholdGridRatio^k (bracketed from k = -10 and +10, bisected to
+/// neighbouring grid rates), the tilt criterion's crossing interpolated between the bracket's
+/// runs. Every model runs the same rates, so the threshold moves continuously with the model.
+double predictedThreshold(SimulationConfig cfg, double measured, const SteadyStateTable& table) {
+  cfg.duration = table.settle_time + table.window;
+  cfg.steady_fraction = table.window / cfg.duration;
+  const double rpm = std::abs(measured) * units::kRpmPerRadPerSec;
+  ThresholdSearchOptions o;
+  o.low = rpm * std::pow(kThresholdGridRatio, -10);
+  o.high = rpm * std::pow(kThresholdGridRatio, 10);
+  o.min_rate = 1e-3 * rpm;
+  o.max_rate = 1e3 * rpm;
+  o.grid_ratio = kThresholdGridRatio;
+  const ThresholdResult r =
+      findThreshold([&](double rate) { return runBucklingProbe(cfg, rate); }, o);
+  if (!r.found) throw std::runtime_error("buckling threshold not found: " + r.message);
+  return interpolatedThreshold(r, cfg.buckling_tilt_deg) * units::kRadPerSecPerRpm;
 }
 
 /// The model's value of a steady-state output from the simulation summary; false for an output
@@ -246,13 +269,22 @@ void Evaluator::runTableJob(const Model& model, const std::vector<double>& value
   cfg.output_interval = std::max(cfg.dt, table.window / kWindowSamples);
   cfg.solver.residual_tolerance =
       std::min(cfg.solver.residual_tolerance, options_.solver_tolerance);
-  Simulation sim(cfg);
-  sim.run(cfg.duration);
-  const SummaryMetrics m = sim.summary();
+  const bool has_steady = std::any_of(row.measured.begin(), row.measured.end(), [](const auto& m) {
+    return m.first != "buckling_threshold" && std::isfinite(m.second);
+  });
+  SummaryMetrics m;
+  if (has_steady) {
+    Simulation sim(cfg);
+    sim.run(cfg.duration);
+    m = sim.summary();
+  }
   for (const auto& [name, measured] : row.measured) {
     if (!std::isfinite(measured)) continue;
     double predicted = 0.0;
-    if (!predictedOutput(m, name, predicted)) continue;
+    if (name == "buckling_threshold")
+      predicted = predictedThreshold(cfg, measured, table);
+    else if (!predictedOutput(m, name, predicted))
+      continue;
     ResidualPoint p;
     p.output = name;
     p.source = job.source;

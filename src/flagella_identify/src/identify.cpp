@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "flagella_identify/calibration.h"
 #include "text_format.h"
 
 namespace flagella {
@@ -203,7 +204,7 @@ ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>
   out.label = effects.empty() ? "baseline" : joined(out.effects, " + ");
   model.setValues(bestStartValues(evaluator_, model, effects, reference, out.evaluations));
   say("  fitting " + out.label + " (" + std::to_string(model.parameters().size()) + " parameters)");
-  const FitResult fit = fitModel(model, evaluator_, options_.fit);
+  const FitResult fit = fitModel(model, evaluator_, fitOptionsFor(data_, options_.fit));
   out.evaluations += fit.evaluations;
   if (!fit.ok) {
     out.note = fit.message;

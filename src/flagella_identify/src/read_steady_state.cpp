@@ -67,10 +67,18 @@ TableColumns classifyColumns(const csv::Table& csv) {
   return columns;
 }
 
-/// Throws unless the CSV has the motor speed, a measured column, and noise for each one.
+/// True when the only measured column is the buckling threshold (no motor speed needed).
+bool thresholdOnly(const TableColumns& columns) {
+  for (const auto& [col, m] : columns.measured)
+    if (std::string(m->output) != "buckling_threshold") return false;
+  return !columns.measured.empty();
+}
+
+/// Throws unless the CSV has the motor speed (unless it measures only buckling thresholds), a
+/// measured column, and noise for each one.
 void checkColumns(const Metadata& meta, const csv::Table& csv, const TableColumns& columns,
                   const std::map<std::string, double>& noise) {
-  if (columns.omega < 0) missingColumn(csv, "omega_T_rpm");
+  if (columns.omega < 0 && !thresholdOnly(columns)) missingColumn(csv, "omega_T_rpm");
   if (columns.measured.empty())
     throw DataError(
         csv.path, csv.header_line, 1,
@@ -89,7 +97,7 @@ SteadyStateRow readRow(const csv::Table& csv, const csv::Row& r, const TableColu
     const std::optional<double> t = cellNumber(csv, r, columns.time, true);
     row.time = t ? *t : kMissing;
   }
-  row.omega_T = requiredNumber(csv, r, columns.omega) * kRadPerSecPerRpm;
+  if (columns.omega >= 0) row.omega_T = requiredNumber(csv, r, columns.omega) * kRadPerSecPerRpm;
   for (int col : columns.overrides)
     if (!r.fields[col].empty()) row.overrides.emplace_back(csv.header[col], r.fields[col]);
   for (const auto& [col, m] : columns.measured) {

@@ -7,21 +7,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "report_json.h"
 #include "text_format.h"
 
 namespace flagella {
 namespace identify {
 
-namespace {
-
 using nlohmann::json;
-
-std::string num(double v, int digits = 4) {
-  if (!std::isfinite(v)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
 
 json finiteOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
@@ -35,26 +27,6 @@ json parametersJson(const std::vector<FitParameter>& ps) {
                  {"range", {p.lower, p.upper}},
                  {"log_scale", p.log_scale}});
   return a;
-}
-
-json outcomeJson(const ModelOutcome& m) {
-  return {{"label", m.label},
-          {"effects", m.effects},
-          {"fitted", m.fitted},
-          {"note", m.note},
-          {"parameters", parametersJson(m.parameters)},
-          {"train_chi_square", m.train_chi_square},
-          {"train_count", m.train_count},
-          {"held_out_chi_square", m.held_out_chi_square},
-          {"held_out_count", m.held_out_count},
-          {"held_out_rms_z", m.held_out_rms_z},
-          {"noise_z", m.noise_z},
-          {"explained_share", m.explained},
-          {"improvement", m.improvement},
-          {"penalty", m.penalty},
-          {"critical", m.critical},
-          {"significant", m.significant},
-          {"evaluations", m.evaluations}};
 }
 
 json diagnosisJson(const Diagnosis& d) {
@@ -77,6 +49,37 @@ json diagnosisJson(const Diagnosis& d) {
   return {{"count", d.count},     {"chi_square", d.chi_square},   {"rms_z", d.rms_z},
           {"noise_z", d.noise_z}, {"significant", d.significant}, {"outputs", outputs},
           {"where", where},       {"signatures", signatures}};
+}
+
+namespace {
+
+using nlohmann::json;
+
+std::string num(double v, int digits = 4) {
+  if (!std::isfinite(v)) return "n/a";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+json outcomeJson(const ModelOutcome& m) {
+  return {{"label", m.label},
+          {"effects", m.effects},
+          {"fitted", m.fitted},
+          {"note", m.note},
+          {"parameters", parametersJson(m.parameters)},
+          {"train_chi_square", m.train_chi_square},
+          {"train_count", m.train_count},
+          {"held_out_chi_square", m.held_out_chi_square},
+          {"held_out_count", m.held_out_count},
+          {"held_out_rms_z", m.held_out_rms_z},
+          {"noise_z", m.noise_z},
+          {"explained_share", m.explained},
+          {"improvement", m.improvement},
+          {"penalty", m.penalty},
+          {"critical", m.critical},
+          {"significant", m.significant},
+          {"evaluations", m.evaluations}};
 }
 
 std::string parameterTable(const std::vector<FitParameter>& ps) {

@@ -45,8 +45,31 @@ const char* kSeriesYaml =
 // ------------------------------------------------------------------------------ reading
 
 TEST(DataIo, SteadyOutputNamesInDocumentedOrder) {
-  EXPECT_EQ(steadyOutputNames(),
-            (std::vector<std::string>{"v", "omega_h", "omega_t", "omega_yr", "R_yr"}));
+  EXPECT_EQ(steadyOutputNames(), (std::vector<std::string>{"v", "omega_h", "omega_t", "omega_yr",
+                                                           "R_yr", "buckling_threshold"}));
+}
+
+TEST(DataIo, ThresholdTableNeedsNoMotorSpeed) {
+  TempDir dir;
+  dir.write("g.csv",
+            "id, robot.filament_radius, buckling_threshold_rpm\n"
+            "thin, 1.188e-3, 4.53\n"
+            "thick, 3.168e-3, 45.9\n");
+  const MeasuredData data = readMeasuredData(dir.write(
+      "g.yaml", "kind: steady_state\ncsv: g.csv\nnoise: {buckling_threshold_rpm: 0.2}\n"));
+  const SteadyStateTable& t = data.tables.at(0);
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_EQ(t.rows[1].omega_T, 0.0);
+  EXPECT_NEAR(t.rows[1].measured.at("buckling_threshold"), units::rpmToRadPerSec(45.9), 1e-12);
+  EXPECT_NEAR(t.noise.at("buckling_threshold"), units::rpmToRadPerSec(0.2), 1e-12);
+  EXPECT_EQ(t.rows[0].overrides,
+            (std::vector<ConfigOverride>{{"robot.filament_radius", "1.188e-3"}}));
+  // with a steady-state output beside the threshold, the motor speed is required again
+  const std::string csv = dir.write("h.csv", "v_mm_s,buckling_threshold_rpm\n0.3,5\n");
+  const std::string yaml = dir.write(
+      "h.yaml",
+      "kind: steady_state\ncsv: h.csv\nnoise: {v_mm_s: 0.01, buckling_threshold_rpm: 0.2}\n");
+  EXPECT_TRUE(startsWith(readError(yaml), csv + ":1:1: missing required column 'omega_T_rpm'"));
 }
 
 TEST(DataIo, SteadyStateTableIsConvertedToSi) {

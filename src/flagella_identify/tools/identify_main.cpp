@@ -2,11 +2,13 @@
 // (calibrate, diagnose, select a physical effect, measure the held-out gain).
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <thread>
 
 #include "flagella_identify/bag_reader.h"
+#include "flagella_identify/calibration.h"
 #include "flagella_identify/identify.h"
 #include "flagella_identify/model.h"
 #include "flagella_identify/report.h"
@@ -27,6 +29,23 @@ std::vector<std::string> defaultFree(const YAML::Node& config) {
   return free;
 }
 
+/// --calibrate-only: fit the free parameters on every experiment and write the calibration report.
+void runCalibration(const MeasuredData& data, const YAML::Node& baseline, const std::string& config,
+                    const std::vector<std::string>& data_files, const CalibrationOptions& options,
+                    const std::string& out_dir) {
+  const CalibrationResult result = calibrate(data, baseline, config, options);
+  std::printf("\ncalibrated (chi^2 %.4g over %d residuals, RMS z %.3g):\n",
+              result.quality.chi_square, result.quality.count, result.quality.rms_z);
+  for (size_t i = 0; i < result.parameters.size(); ++i) {
+    const FitParameter& p = result.parameters[i];
+    std::printf("  %s = %.6g +- %.2g %s (start %.6g)\n", p.name.c_str(), p.value, p.uncertainty,
+                p.unit.c_str(), result.start[i].value);
+  }
+  std::fflush(stdout);
+  for (const std::string& f : writeCalibrationReport(result, data, data_files, config, out_dir))
+    std::cout << "wrote " << f << "\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -36,7 +55,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> data_files, overrides, free, candidates;
   std::string config, out_dir = "out/identify";
   int jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  bool quiet = false, no_plot = false;
+  bool quiet = false, no_plot = false, calibrate_only = false;
   app.add_option("--data", data_files,
                  "measured data: metadata YAML (steady_state or time_series; CSV or bag), "
                  "repeatable")
@@ -56,6 +75,9 @@ int main(int argc, char** argv) {
   app.add_option("--jobs", jobs, "simulations run in parallel")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
+  app.add_flag("--calibrate-only", calibrate_only,
+               "only fit the free parameters on every experiment (no held-out split, no "
+               "candidates): writes calibration.json, calibration.md, calibrated_config.yaml");
   app.add_flag("--no-plot", no_plot, "do not draw report.png");
   app.add_flag("--quiet", quiet, "no progress output");
   CLI11_PARSE(app, argc, argv);
@@ -72,6 +94,15 @@ int main(int argc, char** argv) {
     MeasuredData data = readMeasuredData(data_files);
     const YAML::Node baseline = loadConfigTree(config, overrides);
     for (const std::string& name : candidates) candidateByName(name);  // validates the names
+    if (calibrate_only) {
+      CalibrationOptions c;
+      c.free = free.empty() ? defaultFree(baseline) : free;
+      c.evaluator.jobs = jobs;
+      c.progress = progress;
+      c.fit.progress = progress;
+      runCalibration(data, baseline, config, data_files, c, out_dir);
+      return 0;
+    }
     IdentifyOptions options;
     options.free = free.empty() ? defaultFree(baseline) : free;
     options.candidates = candidates;

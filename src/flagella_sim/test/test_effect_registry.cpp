@@ -71,26 +71,47 @@ TEST(EffectRegistry, NamesAreUniqueAndEveryDescriptorIsComplete) {
 
 // Each effect alone in design 1 with every parameter at an in-range value: the built effect has
 // the descriptor's parameters with the same ranges and units, holding the configured values.
+/// True if `name` is the `second` (or, when `second` is false, the first) of an exclusive pair.
+bool excludedIn(const EffectDescriptor& d, const std::string& name, bool second) {
+  for (const auto& [a, b] : d.exclusive_parameters)
+    if (name == (second ? b : a)) return true;
+  return false;
+}
+
+// Every parameter given at once (one of each exclusive pair, then the other) comes back from the
+// built effect with its value, range and unit.
 TEST(EffectRegistry, EveryEffectRoundTripsThroughConfigParsing) {
-  for (const EffectDescriptor* d : effectRegistry()) {
-    SCOPED_TRACE(d->name);
-    std::vector<std::string> overrides{"effects." + d->name + "={}"};
-    std::map<std::string, double> given;
-    for (const ParameterSpec& p : d->parameters) {
-      const double v = insideValue(p);
-      given[p.name] = v;
-      overrides.push_back("effects." + d->name + "." + p.name + "=" + formatValue(v));
+  for (const EffectDescriptor* d : effectRegistry())
+    for (bool second : {true, false}) {
+      if (!second && d->exclusive_parameters.empty()) continue;
+      SCOPED_TRACE(d->name);
+      std::vector<std::string> overrides{"effects." + d->name + "={}"};
+      std::map<std::string, double> given;
+      for (const ParameterSpec& p : d->parameters) {
+        if (excludedIn(*d, p.name, second)) continue;
+        const double v = insideValue(p);
+        given[p.name] = v;
+        overrides.push_back("effects." + d->name + "." + p.name + "=" + formatValue(v));
+      }
+      const SimulationConfig c = loadSimulationConfig(design1(), overrides);
+      Simulation sim(c);
+      for (const ParameterSpec& p : d->parameters) {
+        const ParameterSpec& built = sim.parameterSpec("effects." + d->name + "." + p.name);
+        EXPECT_EQ(built.min, p.min) << p.name;
+        EXPECT_EQ(built.max, p.max) << p.name;
+        EXPECT_EQ(built.unit, p.unit) << p.name;
+        if (given.count(p.name)) EXPECT_DOUBLE_EQ(built.value, given[p.name]) << p.name;
+      }
+      for (const auto& [a, b] : d->exclusive_parameters) {  // both together: named error
+        const std::string msg = testing::errorMessageOf<ConfigError>([&] {
+          loadSimulationConfig(
+              design1(),
+              {"effects." + d->name + "." + a + "=" + formatValue(insideValue(d->parameter(a))),
+               "effects." + d->name + "." + b + "=" + formatValue(insideValue(d->parameter(b)))});
+        });
+        EXPECT_NE(msg.find("give " + a + " or " + b + ", not both"), std::string::npos) << msg;
+      }
     }
-    const SimulationConfig c = loadSimulationConfig(design1(), overrides);
-    Simulation sim(c);
-    for (const ParameterSpec& p : d->parameters) {
-      const ParameterSpec& built = sim.parameterSpec("effects." + d->name + "." + p.name);
-      EXPECT_EQ(built.min, p.min) << p.name;
-      EXPECT_EQ(built.max, p.max) << p.name;
-      EXPECT_EQ(built.unit, p.unit) << p.name;
-      EXPECT_DOUBLE_EQ(built.value, given[p.name]) << p.name;
-    }
-  }
 }
 
 // Every parameter just outside its range is a ConfigError that names the field and the range.

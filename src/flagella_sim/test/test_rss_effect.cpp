@@ -7,11 +7,13 @@
 #include <random>
 
 #include "flagella_sim/effects/constant_load.h"
+#include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/effects/rss_hydrodynamics.h"
 #include "flagella_sim/hydro/rss_solver.h"
 #include "flagella_sim/robots/multi_tail_robot.h"
 #include "flagella_sim/rod/rod_kinematics.h"
 #include "flagella_sim/solver/implicit_stepper.h"
+#include "support/temp_dir.h"
 #include "support/test_robots.h"
 
 namespace flagella {
@@ -61,6 +63,13 @@ VecX forceAt(const RssHydrodynamics& e, const Fixture& f, const VecX& q) {
   return F;
 }
 
+/// An RSS effect with a fixed eps [m].
+std::unique_ptr<RssHydrodynamics> rssWithEps(double eps, bool implicit) {
+  auto e = std::make_unique<RssHydrodynamics>(1e-3, false, implicit);
+  e->parameters().set("eps", eps);
+  return e;
+}
+
 void beginStep(RssHydrodynamics& e, const Fixture& f) {
   e.attach(f.net);
   e.beginStep({f.net, f.start, f.dt, f.medium, f.medium.viscosity()});
@@ -68,7 +77,8 @@ void beginStep(RssHydrodynamics& e, const Fixture& f) {
 
 TEST(RssEffect, DenseJacobianMatchesFiniteDifferences) {
   const Fixture f = makeFixture(7);
-  RssHydrodynamics e(2e-3, true);
+  const auto rss = rssWithEps(2e-3, true);
+  RssHydrodynamics& e = *rss;
   beginStep(e, f);
   EXPECT_EQ(e.nodes().size(), 3u * 7u);  // every tail chain, root (disc rim) included
   ASSERT_TRUE(e.hasDenseJacobian());
@@ -90,7 +100,8 @@ TEST(RssEffect, DenseJacobianMatchesFiniteDifferences) {
 
 TEST(RssEffect, ExplicitOptionIsImplicitForceAtStartVelocities) {
   const Fixture f = makeFixture(8);
-  RssHydrodynamics implicit(2e-3, true), explicit_a(2e-3, false);
+  const auto rss_b = rssWithEps(2e-3, true), rss_a = rssWithEps(2e-3, false);
+  RssHydrodynamics &implicit = *rss_b, &explicit_a = *rss_a;
   beginStep(implicit, f);
   beginStep(explicit_a, f);
   EXPECT_FALSE(explicit_a.hasDenseJacobian());
@@ -106,12 +117,39 @@ TEST(RssEffect, ExplicitOptionIsImplicitForceAtStartVelocities) {
 }
 
 TEST(RssEffect, BadViscosityAndEmptyRobotAreReported) {
-  RssHydrodynamics e(2e-3, true);
+  const auto rss = rssWithEps(2e-3, true);
+  RssHydrodynamics& e = *rss;
   RodNetwork rod = testing::makeStraightRod(4, 0.02, testing::vpsMaterial());
   EXPECT_THROW(e.attach(rod), ConfigError);  // no tail chains
   Fixture f = makeFixture(9);
   e.attach(f.net);
   EXPECT_THROW(e.beginStep({f.net, f.start, f.dt, f.medium, 0.0}), std::runtime_error);
+}
+
+TEST(RssEffect, EpsRatioTimesFilamentRadiusOrEpsWhicheverWasSetLast) {
+  const Fixture f = makeFixture(10);
+  RssHydrodynamics relative(2e-3, true, true);  // r0 = 2 mm, eps = eps_ratio r0
+  relative.parameters().set("eps_ratio", 1.2);
+  beginStep(relative, f);
+  EXPECT_DOUBLE_EQ(relative.parameters().get("eps"), 2.4e-3);
+  const auto fixed = rssWithEps(2.4e-3, true);
+  beginStep(*fixed, f);
+  EXPECT_EQ(forceAt(relative, f, f.q), forceAt(*fixed, f, f.q));
+  relative.parameters().set("eps", 3e-3);  // a running session sets eps: it wins from now on
+  beginStep(relative, f);
+  const auto fixed3 = rssWithEps(3e-3, true);
+  beginStep(*fixed3, f);
+  EXPECT_EQ(forceAt(relative, f, f.q), forceAt(*fixed3, f, f.q));
+  relative.parameters().set("eps_ratio", 1.0);  // and eps_ratio again after it
+  beginStep(relative, f);
+  EXPECT_DOUBLE_EQ(relative.parameters().get("eps"), 2e-3);
+  // a config may give one of the two, not both
+  EffectSpec spec{"rss", {{"coupling", "implicit"}}, {{"eps", 2e-3}, {"eps_ratio", 1.0}}};
+  RobotDimensions robot;
+  const std::string message =
+      testing::errorMessageOf<ConfigError>([&] { makeEffect(spec, f.medium, robot); });
+  EXPECT_NE(message.find("effects.rss: give eps or eps_ratio, not both"), std::string::npos)
+      << message;
 }
 
 // ---- a stiff rod sedimenting broadside under a uniform load ------------------------------------
@@ -136,7 +174,7 @@ Sediment sediment(bool implicit, double dt, double duration) {
   rod.parts.tail_edges = {edges};
   rod.parts.motor_spring = -1;
   const double eps = 1.65e-3;
-  auto rss = std::make_unique<RssHydrodynamics>(eps, implicit);
+  EffectPtr rss = rssWithEps(eps, implicit);
   auto load = std::make_unique<ConstantLoad>();
   const Vec3 per_node(2e-4, 0.0, 0.0);
   for (int i = 0; i < rod.numNodes(); ++i) load->addNodeForce(i, per_node);
@@ -161,7 +199,8 @@ Sediment sediment(bool implicit, double dt, double duration) {
   out.velocity /= rod.numNodes();
   // Total hydrodynamic force at the end state, through the effect itself.
   const Effect* e = stepper.findEffect("rss");
-  RssHydrodynamics probe(eps, true);
+  const auto probe_rss = rssWithEps(eps, true);
+  RssHydrodynamics& probe = *probe_rss;
   probe.attach(rod);
   RodState previous = s;
   previous.q = s.q - dt * s.qdot;

@@ -20,6 +20,10 @@ struct Split {
   std::vector<double> series_split_time;  ///< run time from which a series is held out [s]
 };
 
+/// A model's buckling threshold is searched on rates measured x this ratio^k (then interpolated
+/// between the two neighbouring grid rates that bracket it).
+constexpr double kThresholdGridRatio = 1.02;
+
 /// Held-out every `stride`-th row of each table in order of |omega_T| (so the held-out rows
 /// span the speed range), and the last `held_out_fraction` of each time series.
 Split makeSplit(const MeasuredData& data, int stride = 3, double held_out_fraction = 0.4);

@@ -19,7 +19,9 @@ namespace identify {
 constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
 
 /// The steady-state outputs a table may hold (docs/model.md 7.1), SI units.
-/// "v" [m/s], "omega_h" [rad/s], "omega_t" [rad/s], "omega_yr" [rad/s], "R_yr" [m].
+/// "v" [m/s], "omega_h" [rad/s], "omega_t" [rad/s], "omega_yr" [rad/s], "R_yr" [m],
+/// "buckling_threshold" [rad/s] (motor rate at which the flagellum buckles; the row's omega_T is
+/// then unused).
 const std::vector<std::string>& steadyOutputNames();
 
 /// A config override "section.field" -> YAML value text (e.g. "robot.n_tails" -> "3").
@@ -28,7 +30,7 @@ using ConfigOverride = std::pair<std::string, std::string>;
 struct SteadyStateRow {
   int line = 0;            ///< line of the row in its CSV file (1-based), for messages
   std::string id;          ///< optional experiment name
-  double omega_T = 0.0;    ///< signed motor speed [rad/s]
+  double omega_T = 0.0;    ///< signed motor speed [rad/s] (0 in a threshold-only table)
   double time = kMissing;  ///< start of the experiment in the session [s] (optional)
   std::vector<ConfigOverride> overrides;   ///< per-row config fields (n_tails, tail length, ...)
   std::map<std::string, double> measured;  ///< output name -> value (NaN = not measured)

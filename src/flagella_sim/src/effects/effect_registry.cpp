@@ -44,6 +44,9 @@ const EffectDescriptor& effectDescriptor(const std::string& name) {
 
 EffectPtr makeEffect(const EffectSpec& spec, const Medium& medium, const RobotDimensions& robot) {
   const EffectDescriptor& descriptor = effectDescriptor(spec.name);
+  for (const auto& [a, b] : descriptor.exclusive_parameters)
+    if (spec.hasParameter(a) && spec.hasParameter(b))
+      throw ConfigError("effects." + spec.name + ": give " + a + " or " + b + ", not both");
   EffectPtr effect = descriptor.make(EffectBuildContext{spec, medium, robot});
   for (const auto& [name, value] : spec.parameters)
     effect->parameters().set(name, value, "effects." + spec.name);

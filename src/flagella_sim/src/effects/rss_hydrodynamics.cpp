@@ -7,19 +7,40 @@
 
 namespace flagella {
 
-RssHydrodynamics::RssHydrodynamics(double eps, bool implicit)
-    : Effect(kName, rssHydrodynamicsEffect().parameters), implicit_(implicit) {
-  eps_ = parameterIndex("eps", eps);
+RssHydrodynamics::RssHydrodynamics(double filament_radius, bool relative, bool implicit)
+    : Effect(kName, rssHydrodynamicsEffect().parameters),
+      implicit_(implicit),
+      relative_(relative),
+      filament_radius_(filament_radius) {
+  eps_ratio_ = parameterIndex("eps_ratio");
+  eps_ = parameterIndex("eps", params_[eps_ratio_] * filament_radius);
+  last_eps_ = params_[eps_];
+  last_ratio_ = params_[eps_ratio_];
+}
+
+double RssHydrodynamics::currentEps() {
+  // The parameter set last wins: a config (or a running session) gives eps or eps_ratio.
+  if (params_[eps_] != last_eps_)
+    relative_ = false;
+  else if (params_[eps_ratio_] != last_ratio_)
+    relative_ = true;
+  if (relative_) params_.set("eps", params_[eps_ratio_] * filament_radius_, "effects.rss");
+  last_eps_ = params_[eps_];
+  last_ratio_ = params_[eps_ratio_];
+  return params_[eps_];
 }
 
 namespace {
-// eps = sqrt(e) r0: a line of regularized Stokeslets with this eps has the resistance of a slender
-// filament of radius r0 (docs/model.md 4.5).
-double defaultEps(const EffectBuildContext& b) {
-  if (!(b.medium.viscosity() > 0.0))
+// eps_ratio = sqrt(e): a line of regularized Stokeslets with eps = sqrt(e) r0 has the resistance of
+// a slender filament of radius r0 (docs/model.md 4.5).
+const double kDefaultEpsRatio = std::sqrt(std::exp(1.0));
+
+std::unique_ptr<RssHydrodynamics> makeRss(const EffectBuildContext& c) {
+  if (!(c.medium.viscosity() > 0.0))
     throw ConfigError("effects.rss needs medium.viscosity > 0 (Stokes flow), got " +
-                      formatNumber(b.medium.viscosity()));
-  return std::sqrt(std::exp(1.0)) * b.robot.filament_radius;
+                      formatNumber(c.medium.viscosity()));
+  return std::make_unique<RssHydrodynamics>(c.robot.filament_radius, !c.spec.hasParameter("eps"),
+                                            c.spec.option("coupling") == "implicit");
 }
 }  // namespace
 
@@ -33,13 +54,15 @@ const EffectDescriptor& rssHydrodynamicsEffect() {
                   {"implicit", "explicit"},
                   "implicit: dense Jacobian block, frozen geometry (docs/model.md 4.4 B); "
                   "explicit: force from the previous step's velocities (4.4 A, needs small dt)"}};
-    e.parameters = {{"eps", 2.6e-3, 1e-7, 0.1, "m",
-                     "regularisation eps (default sqrt(e) r0, docs/model.md 4.5)"}};
-    e.default_rules = {{"eps", "sqrt(e) robot.filament_radius"}};
-    e.make = [](const EffectBuildContext& c) {
-      return std::make_unique<RssHydrodynamics>(defaultEps(c),
-                                                c.spec.option("coupling") == "implicit");
-    };
+    e.parameters = {
+        {"eps", 2.6e-3, 1e-7, 0.1, "m",
+         "regularisation eps (default eps_ratio r0, docs/model.md 4.5)"},
+        {"eps_ratio", kDefaultEpsRatio, 0.05, 20.0, "",
+         "eps / robot.filament_radius, used unless eps is given (default sqrt(e), docs/model.md "
+         "4.5; the value a gimbal threshold table calibrates)"}};
+    e.default_rules = {{"eps", "eps_ratio robot.filament_radius"}};
+    e.exclusive_parameters = {{"eps", "eps_ratio"}};
+    e.make = [](const EffectBuildContext& c) -> EffectPtr { return makeRss(c); };
     return e;
   }();
   return d;
@@ -73,7 +96,7 @@ void RssHydrodynamics::beginStep(const StepStart& start) {
   rss::Polyline polyline;
   for (int node : nodes_) polyline.push_back(nodePosition(start.state.q, node));
   try {
-    const rss::RssSolver solver(polyline, segments_, params_[eps_], start.viscosity);
+    const rss::RssSolver solver(polyline, segments_, currentEps(), start.viscosity);
     if (implicit_)
       drag_ = solver.dragMatrix();  // K = 8 pi mu D Ablk^{-1} (docs/model.md 4.4 B)
     else

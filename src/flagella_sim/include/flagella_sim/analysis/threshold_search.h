@@ -25,6 +25,10 @@ struct ThresholdSearchOptions {
   double max_rate = 2000.0;  ///< the upper guess is doubled up to this before giving up
   double tolerance = 1.0;    ///< stop when the bracket is narrower than this [rpm]
   int max_runs = 40;
+  /// > 1: every rate tried lies on the grid low * grid_ratio^k and the search stops at two
+  /// neighbouring grid rates (tolerance unused). Models that differ slightly are then run at the
+  /// same rates, so an interpolated threshold moves continuously with them (fits need that).
+  double grid_ratio = 0.0;
 };
 
 struct ThresholdResult {
@@ -46,5 +50,11 @@ void validate(const ThresholdSearchOptions& options);
 ThresholdResult findThreshold(const std::function<ThresholdProbe(double)>& probe,
                               const ThresholdSearchOptions& options,
                               const std::function<void(const ThresholdProbe&)>& progress = {});
+
+/// The rate inside a found bracket where the indicator crosses `level`, by linear interpolation
+/// between the bracket's two runs: a threshold that moves continuously with the model (what a
+/// fit needs), not in steps of the bisection. The midpoint when the two runs do not straddle
+/// `level` (an indicator that is not monotone near the threshold); NaN if `result` is not found.
+double interpolatedThreshold(const ThresholdResult& result, double level);
 
 }  // namespace flagella

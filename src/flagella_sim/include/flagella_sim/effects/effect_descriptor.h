@@ -107,6 +107,9 @@ struct EffectDescriptor {
   /// the robot or medium is set by `make`; `default_rule` then says how (README, `params`).
   std::vector<ParameterSpec> parameters;
   std::vector<std::pair<std::string, std::string>> default_rules;  ///< parameter -> rule
+  /// Pairs of parameters that say the same thing two ways (eps, eps_ratio): a config gives at
+  /// most one of each pair (makeEffect rejects both).
+  std::vector<std::pair<std::string, std::string>> exclusive_parameters;
   std::function<EffectPtr(const EffectBuildContext&)> make;
   std::optional<DiscoveryHints> discovery;
 

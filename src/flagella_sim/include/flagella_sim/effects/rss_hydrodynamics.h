@@ -19,8 +19,9 @@ const EffectDescriptor& rssHydrodynamicsEffect();
 class RssHydrodynamics : public Effect {
  public:
   static constexpr const char* kName = "rss";
-  /// `eps`: regularisation [m]; `implicit`: option B (else option A).
-  RssHydrodynamics(double eps, bool implicit);
+  /// `filament_radius`: r0 [m]; `relative`: eps = eps_ratio r0 (else the parameter eps [m]);
+  /// `implicit`: option B (else option A).
+  RssHydrodynamics(double filament_radius, bool relative, bool implicit);
   void attach(const RodNetwork& net) override;
   void beginStep(const StepStart& start) override;
   void addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const override;
@@ -32,9 +33,14 @@ class RssHydrodynamics : public Effect {
 
  private:
   VecX gather(const VecX& q) const;  ///< the RSS nodes' positions (3M) from a DOF vector
+  /// eps for this step: eps_ratio r0 or eps, whichever was set last (eps kept in step with it).
+  double currentEps();
 
-  int eps_ = 0;
+  int eps_ = 0, eps_ratio_ = 0;
   bool implicit_ = true;
+  bool relative_ = true;
+  double filament_radius_ = 0.0;
+  double last_eps_ = 0.0, last_ratio_ = 0.0;
   std::vector<int> nodes_;
   std::vector<int> dofs_;  ///< 3 position DOFs per RSS node
   rss::Segments segments_;
