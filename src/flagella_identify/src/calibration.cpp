@@ -46,10 +46,6 @@ CalibrationResult calibrate(const MeasuredData& data, const YAML::Node& baseline
                              result.evaluation.failure);
   result.quality = diagnose(result.evaluation, data);
   result.calibrated_config = model.extendedConfig();
-  if (options.progress)
-    for (const FitParameter& p : result.parameters)
-      options.progress(formatted("  %.6g +- %.2g ", p.value, p.uncertainty) + p.unit + " " +
-                       p.name);
   return result;
 }
 

@@ -78,14 +78,13 @@ std::vector<ConfigOverride> allOverrides(const std::vector<ConfigOverride>& a,
   return all;
 }
 
-/// The model's buckling threshold [rad/s] for a measured one (docs/model.md 8.4.4): runs of
-/// `cfg` classified by the flagellum's largest tilt in the last `window` seconds, at rates on the
+/// The model's buckling threshold [rad/s] for a measured one (docs/model.md 8.4.5): runs of
+/// `cfg` (the row's config, already set to last settle + window with the window as its steady
+/// part) classified by the flagellum's largest tilt in the steady window, at rates on the
 /// grid measured x kThresholdGridRatio^k (bracketed from k = -10 and +10, bisected to
 /// neighbouring grid rates), the tilt criterion's crossing interpolated between the bracket's
 /// runs. Every model runs the same rates, so the threshold moves continuously with the model.
-double predictedThreshold(SimulationConfig cfg, double measured, const SteadyStateTable& table) {
-  cfg.duration = table.settle_time + table.window;
-  cfg.steady_fraction = table.window / cfg.duration;
+double predictedThreshold(const SimulationConfig& cfg, double measured) {
   const double rpm = std::abs(measured) * units::kRpmPerRadPerSec;
   ThresholdSearchOptions o;
   o.low = rpm * std::pow(kThresholdGridRatio, -10);
@@ -282,7 +281,7 @@ void Evaluator::runTableJob(const Model& model, const std::vector<double>& value
     if (!std::isfinite(measured)) continue;
     double predicted = 0.0;
     if (name == "buckling_threshold")
-      predicted = predictedThreshold(cfg, measured, table);
+      predicted = predictedThreshold(cfg, measured);
     else if (!predictedOutput(m, name, predicted))
       continue;
     ResidualPoint p;

@@ -24,34 +24,37 @@ std::string formatValue(double value) {
   return s.str();
 }
 
-/// The registry's schema of a free parameter "effects.<effect>.<parameter>", or nullptr.
-const ParameterSpec* effectParameterSpec(const std::string& path) {
+/// A free parameter "effects.<effect>.<parameter>" of a registered effect: the effect's
+/// descriptor and the parameter's schema (both null for any other config path).
+struct EffectParameter {
+  const EffectDescriptor* effect = nullptr;
+  const ParameterSpec* spec = nullptr;
+};
+
+EffectParameter effectParameter(const std::string& path) {
   const size_t a = path.find('.'), b = path.find('.', a + 1);
-  if (a == std::string::npos || b == std::string::npos || path.substr(0, a) != "effects")
-    return nullptr;
+  if (a == std::string::npos || b == std::string::npos || path.substr(0, a) != "effects") return {};
   const EffectDescriptor* d = findEffectDescriptor(path.substr(a + 1, b - a - 1));
-  if (!d) return nullptr;
+  if (!d) return {};
   for (const ParameterSpec& p : d->parameters)
-    if (p.name == path.substr(b + 1)) return &p;
-  return nullptr;
+    if (p.name == path.substr(b + 1)) return {d, &p};
+  return {};
 }
 
 /// The start value of a free parameter: the config's value, or, for a parameter of an effect the
 /// config lists without it, the registry default (unless a rule makes that depend on the robot).
-double startValue(const YAML::Node& baseline, const std::string& name, const std::string& source) {
+double startValue(const YAML::Node& baseline, const std::string& name, const EffectParameter& ep,
+                  const std::string& source) {
   const YAML::Node node = configField(baseline, name);
-  const ParameterSpec* spec = effectParameterSpec(name);
-  const size_t last = name.rfind('.');
-  const std::string effect = name.substr(name.find('.') + 1, last - name.find('.') - 1);
   const YAML::Node effects = baseline["effects"];
-  const bool listed = spec && effects.IsMap() && effects[effect];
+  const bool listed = ep.spec && effects.IsMap() && effects[ep.effect->name];
   if (listed && (!node.IsDefined() || node.IsNull())) {
-    const std::string rule = effectDescriptor(effect).defaultRule(spec->name);
+    const std::string rule = ep.effect->defaultRule(ep.spec->name);
     if (!rule.empty())
       throw ConfigError("free parameter '" + name + "' has no value in " + source +
                         " and its default depends on the robot (" + rule +
                         "); give a start value with --set " + name + "=VALUE");
-    return spec->value;
+    return ep.spec->value;
   }
   if (!node || !node.IsScalar())
     throw ConfigError("free parameter '" + name + "' is not a number in " + source +
@@ -86,7 +89,8 @@ Model::Model(YAML::Node baseline, std::string source, const std::vector<std::str
     throw ConfigError(source_ + ": " + e.what());
   }
   for (const std::string& name : free) {
-    const double value = startValue(baseline_, name, source_);
+    const EffectParameter ep = effectParameter(name);
+    const double value = startValue(baseline_, name, ep, source_);
     if (!(value > 0.0) || !std::isfinite(value))
       throw ConfigError("free parameter '" + name + "' must be > 0 in " + source_ +
                         " to be fitted on a log scale, got " + formatValue(value));
@@ -95,10 +99,10 @@ Model::Model(YAML::Node baseline, std::string source, const std::vector<std::str
     p.value = value;
     p.lower = value / range_factor;
     p.upper = value * range_factor;
-    if (const ParameterSpec* spec = effectParameterSpec(name)) {  // stay inside its valid range
-      p.lower = std::max(p.lower, std::min(value, spec->min));
-      p.upper = std::min(p.upper, std::max(value, spec->max));
-      p.unit = spec->unit;
+    if (ep.spec) {  // stay inside the parameter's valid range
+      p.lower = std::max(p.lower, std::min(value, ep.spec->min));
+      p.upper = std::min(p.upper, std::max(value, ep.spec->max));
+      p.unit = ep.spec->unit;
     }
     p.log_scale = true;
     parameters_.push_back(p);

@@ -53,8 +53,6 @@ json diagnosisJson(const Diagnosis& d) {
 
 namespace {
 
-using nlohmann::json;
-
 std::string num(double v, int digits = 4) {
   if (!std::isfinite(v)) return "n/a";
   char buf[64];

@@ -23,7 +23,6 @@
 #include <vector>
 
 #include "flagella_sim/effects/com_offset.h"
-#include "flagella_sim/robots/multi_tail_robot.h"
 #include "flagella_sim/rod/rod_kinematics.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
@@ -73,21 +72,12 @@ VecX comForce(const ComOffset& e, const RodNetwork& net, const VecX& q, const Ve
   return F;
 }
 
-RodNetwork smallMultiTailRobot() {
-  MultiTailGeometry g;
-  g.n_tails = 3;
-  g.tail_length = 0.05;
-  g.tail_edges = 5;
-  g.tail_material = testing::vpsMaterial();
-  return buildMultiTailRobot(g);
-}
-
 // ---- 1. statics ---------------------------------------------------------------------------------
 
 TEST(ComOffsetStatics, ZeroNetForceAndCoupleOfTheOffsetWeightAtRandomOrientations) {
   std::mt19937 rng(20240611);
   const std::vector<RodNetwork> nets{testing::makeLoneHead(0.02, testing::vpsMaterial()),
-                                     smallMultiTailRobot()};
+                                     testing::makeThreeTailRobot(5)};
   double worst_sum = 0.0, worst_moment = 0.0;
   int checked_sign = 0;
   for (const RodNetwork& net : nets) {
@@ -186,7 +176,7 @@ class RecordingSink : public JacobianSink {
 };
 
 TEST(ComOffsetJacobian, NoEntriesAndZeroFiniteDifferenceDerivative) {
-  const RodNetwork net = smallMultiTailRobot();
+  const RodNetwork net = testing::makeThreeTailRobot(5);
   std::mt19937 rng(11);
   Medium medium;
   medium.gravity = Vec3(1.0, -9.7, 0.8);

@@ -22,7 +22,6 @@
 #include "flagella_sim/effects/granular_yield.h"
 #include "flagella_sim/effects/stokes_head_drag.h"
 #include "flagella_sim/effects/viscosity_drift.h"
-#include "flagella_sim/robots/multi_tail_robot.h"
 #include "flagella_sim/rod/network_builder.h"
 #include "flagella_sim/rod/rod_kinematics.h"
 #include "flagella_sim/simulation/simulation.h"
@@ -248,12 +247,7 @@ TEST(GranularJamming, AHeadThatMustStopIsSolvedByTheDampedRetryWithoutSubdivisio
 // ---- com_offset --------------------------------------------------------------------------------
 
 TEST(ComOffset, ForcesHaveZeroSumAndTheCoupleOfTheOffsetWeight) {
-  MultiTailGeometry g;
-  g.n_tails = 3;
-  g.tail_length = 0.05;
-  g.tail_edges = 6;
-  g.tail_material = testing::vpsMaterial();
-  const RodNetwork net = buildMultiTailRobot(g);
+  const RodNetwork net = testing::makeThreeTailRobot(6);
   const RobotParts& parts = net.parts;
   // A rigidly rotated and shifted robot: the head keeps its rest shape.
   const Eigen::Matrix3d R =

@@ -13,7 +13,6 @@
 #include "flagella_sim/effects/interface_lateral_force.h"
 #include "flagella_sim/effects/rft_drag.h"
 #include "flagella_sim/effects/stokes_head_drag.h"
-#include "flagella_sim/robots/multi_tail_robot.h"
 #include "flagella_sim/rod/rod_kinematics.h"
 #include "support/test_robots.h"
 
@@ -36,12 +35,7 @@ struct Fixture {
 };
 
 Fixture makeFixture(unsigned seed) {
-  MultiTailGeometry g;
-  g.n_tails = 3;
-  g.tail_length = 0.05;
-  g.tail_edges = 6;
-  g.tail_material = testing::vpsMaterial();
-  Fixture f{buildMultiTailRobot(g), Medium(), {}, {}, {}, {}, 0.01};
+  Fixture f{testing::makeThreeTailRobot(6), Medium(), {}, {}, {}, {}, 0.01};
   f.medium.parameters().set("viscosity", 2.5);
   f.medium.up = Vec3(0.1, 1.0, 0.05).normalized();
   f.medium.profile.enabled = true;

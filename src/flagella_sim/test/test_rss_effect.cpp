@@ -10,7 +10,6 @@
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/effects/rss_hydrodynamics.h"
 #include "flagella_sim/hydro/rss_solver.h"
-#include "flagella_sim/robots/multi_tail_robot.h"
 #include "flagella_sim/rod/rod_kinematics.h"
 #include "flagella_sim/solver/implicit_stepper.h"
 #include "support/temp_dir.h"
@@ -39,12 +38,7 @@ struct Fixture {
 
 // A three-tail robot bent and moving at random: three chains share one RSS system.
 Fixture makeFixture(unsigned seed) {
-  MultiTailGeometry g;
-  g.n_tails = 3;
-  g.tail_length = 0.05;
-  g.tail_edges = 6;
-  g.tail_material = testing::vpsMaterial();
-  Fixture f{buildMultiTailRobot(g), Medium(), {}, {}, 0.01};
+  Fixture f{testing::makeThreeTailRobot(6), Medium(), {}, {}, 0.01};
   f.medium.parameters().set("viscosity", 1.3);
   std::mt19937 rng(seed);
   f.start.q = testing::perturbed(f.net, f.net.restDofs(), 2e-3, 0.5, rng);
@@ -65,7 +59,7 @@ VecX forceAt(const RssHydrodynamics& e, const Fixture& f, const VecX& q) {
 
 /// An RSS effect with a fixed eps [m].
 std::unique_ptr<RssHydrodynamics> rssWithEps(double eps, bool implicit) {
-  auto e = std::make_unique<RssHydrodynamics>(1e-3, false, implicit);
+  auto e = std::make_unique<RssHydrodynamics>(1e-3, implicit);
   e->parameters().set("eps", eps);
   return e;
 }
@@ -128,7 +122,7 @@ TEST(RssEffect, BadViscosityAndEmptyRobotAreReported) {
 
 TEST(RssEffect, EpsRatioTimesFilamentRadiusOrEpsWhicheverWasSetLast) {
   const Fixture f = makeFixture(10);
-  RssHydrodynamics relative(2e-3, true, true);  // r0 = 2 mm, eps = eps_ratio r0
+  RssHydrodynamics relative(2e-3, true);  // r0 = 2 mm, eps = eps_ratio r0
   relative.parameters().set("eps_ratio", 1.2);
   beginStep(relative, f);
   EXPECT_DOUBLE_EQ(relative.parameters().get("eps"), 2.4e-3);

@@ -17,8 +17,8 @@ namespace flagella {
 namespace identify {
 
 /// Finite-difference step of log-scale parameters when the data hold buckling thresholds: a
-/// model threshold is bisected to 1 % and interpolated, so smaller steps would difference the
-/// search's rounding rather than the model.
+/// model threshold is searched on a 2 % rate grid and interpolated, and scatters by 1-2 % near
+/// the criterion, so smaller steps would difference that scatter rather than the model.
 constexpr double kThresholdLogStep = 0.05;
 /// Relative change of the cost that ends a fit on thresholds: the model's threshold scatters by
 /// 1-2 % near the criterion (docs/model.md 8.4.4), so finer changes are that scatter.

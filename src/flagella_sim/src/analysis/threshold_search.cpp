@@ -39,7 +39,6 @@ ThresholdResult findThreshold(const std::function<ThresholdProbe(double)>& probe
                               const std::function<void(const ThresholdProbe&)>& progress) {
   validate(o);
   ThresholdResult r;
-  // Runs `rate`; false if the search must stop (failed run or out of runs).
   const bool gridded = o.grid_ratio > 1.0;
   // A rate on the grid low * grid_ratio^k (the rate itself without a grid).
   auto snap = [&](double rate) {
@@ -47,6 +46,7 @@ ThresholdResult findThreshold(const std::function<ThresholdProbe(double)>& probe
     return o.low *
            std::pow(o.grid_ratio, std::round(std::log(rate / o.low) / std::log(o.grid_ratio)));
   };
+  // Runs `rate` (snapped); false if the search must stop (failed run or out of runs).
   auto run = [&](double rate, bool& above) {
     rate = snap(rate);
     if (static_cast<int>(r.runs.size()) >= o.max_runs) {

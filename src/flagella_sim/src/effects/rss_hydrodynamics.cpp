@@ -7,10 +7,9 @@
 
 namespace flagella {
 
-RssHydrodynamics::RssHydrodynamics(double filament_radius, bool relative, bool implicit)
+RssHydrodynamics::RssHydrodynamics(double filament_radius, bool implicit)
     : Effect(kName, rssHydrodynamicsEffect().parameters),
       implicit_(implicit),
-      relative_(relative),
       filament_radius_(filament_radius) {
   eps_ratio_ = parameterIndex("eps_ratio");
   eps_ = parameterIndex("eps", params_[eps_ratio_] * filament_radius);
@@ -19,7 +18,8 @@ RssHydrodynamics::RssHydrodynamics(double filament_radius, bool relative, bool i
 }
 
 double RssHydrodynamics::currentEps() {
-  // The parameter set last wins: a config (or a running session) gives eps or eps_ratio.
+  // The parameter set last wins: a config (or a running session) gives eps or eps_ratio. Until
+  // either changes, eps = eps_ratio r0 both ways.
   if (params_[eps_] != last_eps_)
     relative_ = false;
   else if (params_[eps_ratio_] != last_ratio_)
@@ -39,7 +39,7 @@ std::unique_ptr<RssHydrodynamics> makeRss(const EffectBuildContext& c) {
   if (!(c.medium.viscosity() > 0.0))
     throw ConfigError("effects.rss needs medium.viscosity > 0 (Stokes flow), got " +
                       formatNumber(c.medium.viscosity()));
-  return std::make_unique<RssHydrodynamics>(c.robot.filament_radius, !c.spec.hasParameter("eps"),
+  return std::make_unique<RssHydrodynamics>(c.robot.filament_radius,
                                             c.spec.option("coupling") == "implicit");
 }
 }  // namespace

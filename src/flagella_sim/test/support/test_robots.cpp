@@ -1,5 +1,7 @@
 #include "support/test_robots.h"
 
+#include "flagella_sim/robots/multi_tail_robot.h"
+
 namespace flagella::testing {
 
 RodMaterial vpsMaterial() {
@@ -18,6 +20,15 @@ RodNetwork makeStraightRod(int edges, double length, const RodMaterial& material
   for (int j = 0; j < edges; ++j) b.addEdge(j, j + 1, material);
   for (int j = 0; j + 1 < edges; ++j) b.addBendTwistSpring(j, j + 1, material);
   return b.build();
+}
+
+RodNetwork makeThreeTailRobot(int tail_edges) {
+  MultiTailGeometry g;
+  g.n_tails = 3;
+  g.tail_length = 0.05;
+  g.tail_edges = tail_edges;
+  g.tail_material = vpsMaterial();
+  return buildMultiTailRobot(g);
 }
 
 RodNetwork makeLoneHead(double half_length, const RodMaterial& material) {

@@ -23,6 +23,10 @@ RodNetwork makeJunctionNetwork(const RodMaterial& material);
 /// motor spring, so loads on the head alone can be checked against closed forms.
 RodNetwork makeLoneHead(double half_length, const RodMaterial& material);
 
+/// A small three-tail robot (docs/model.md 8.1 layout): tails of 5 cm with `tail_edges` edges
+/// each, VPS material.
+RodNetwork makeThreeTailRobot(int tail_edges);
+
 /// q with every position moved by up to `amplitude` and every theta by up to `angle`.
 VecX perturbed(const RodNetwork& net, const VecX& q, double amplitude, double angle,
                std::mt19937& rng);

@@ -19,9 +19,9 @@ const EffectDescriptor& rssHydrodynamicsEffect();
 class RssHydrodynamics : public Effect {
  public:
   static constexpr const char* kName = "rss";
-  /// `filament_radius`: r0 [m]; `relative`: eps = eps_ratio r0 (else the parameter eps [m]);
-  /// `implicit`: option B (else option A).
-  RssHydrodynamics(double filament_radius, bool relative, bool implicit);
+  /// `filament_radius`: r0 [m] (eps = eps_ratio r0 until eps itself is set); `implicit`: option B
+  /// (else option A).
+  RssHydrodynamics(double filament_radius, bool implicit);
   void attach(const RodNetwork& net) override;
   void beginStep(const StepStart& start) override;
   void addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const override;
