@@ -23,6 +23,7 @@ FitOptions fitOptionsFor(const MeasuredData& data, FitOptions options) {
         options.log_step = std::max(options.log_step, kThresholdLogStep);
         options.function_tolerance =
             std::max(options.function_tolerance, kThresholdFunctionTolerance);
+        options.derivative_free = true;
       }
   return options;
 }

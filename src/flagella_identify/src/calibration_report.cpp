@@ -42,8 +42,8 @@ std::string markdown(const CalibrationResult& r, const MeasuredData& data,
                      const std::vector<std::string>& data_files, const std::string& config) {
   std::ostringstream md;
   md << "# Calibration report\n\n- Data: " << joined(data_files, ", ") << "\n- Baseline config: `"
-     << config << "`\n- Model evaluations: " << r.fit.evaluations << " (" << r.fit.iterations
-     << " iterations; " << r.fit.message << ")\n\n";
+     << config << "`\n- Model evaluations: " << r.fit.evaluations << " (" << r.fit.method << ", "
+     << r.fit.iterations << " iterations; " << r.fit.message << ")\n\n";
   md << "| parameter | start | fitted | one sigma | unit |\n|---|---|---|---|---|\n";
   for (size_t i = 0; i < r.parameters.size(); ++i)
     md << "| `" << r.parameters[i].name << "` | " << formatted("%.4g", r.start[i].value) << " | "
@@ -85,9 +85,13 @@ std::vector<std::string> writeCalibrationReport(const CalibrationResult& r,
   j["inputs"] = {{"data", data_files}, {"baseline_config", baseline_config}};
   j["start"] = parametersJson(r.start);
   j["parameters"] = parametersJson(r.parameters);
-  j["fit"] = {{"evaluations", r.fit.evaluations}, {"iterations", r.fit.iterations},
-              {"message", r.fit.message},         {"chi_square", r.quality.chi_square},
-              {"count", r.quality.count},         {"rms_z", r.quality.rms_z},
+  j["fit"] = {{"method", r.fit.method},
+              {"evaluations", r.fit.evaluations},
+              {"iterations", r.fit.iterations},
+              {"message", r.fit.message},
+              {"chi_square", r.quality.chi_square},
+              {"count", r.quality.count},
+              {"rms_z", r.quality.rms_z},
               {"noise_z", r.quality.noise_z}};
   j["quality"] = diagnosisJson(r.quality);
   j["experiments"] = pointsJson(r.evaluation, data);

@@ -80,22 +80,26 @@ std::vector<ConfigOverride> allOverrides(const std::vector<ConfigOverride>& a,
 
 /// The model's buckling threshold [rad/s] for a measured one (docs/model.md 8.4.5): runs of
 /// `cfg` (the row's config, already set to last settle + window with the window as its steady
-/// part) classified by the flagellum's largest tilt in the steady window, at rates on the
-/// grid measured x kThresholdGridRatio^k (bracketed from k = -10 and +10, bisected to
-/// neighbouring grid rates), the tilt criterion's crossing interpolated between the bracket's
-/// runs. Every model runs the same rates, so the threshold moves continuously with the model.
-double predictedThreshold(const SimulationConfig& cfg, double measured) {
-  const double rpm = std::abs(measured) * units::kRpmPerRadPerSec;
-  ThresholdSearchOptions o;
-  o.low = rpm * std::pow(kThresholdGridRatio, -10);
-  o.high = rpm * std::pow(kThresholdGridRatio, 10);
-  o.min_rate = 1e-3 * rpm;
-  o.max_rate = 1e3 * rpm;
-  o.grid_ratio = kThresholdGridRatio;
-  const ThresholdResult r =
-      findThreshold([&](double rate) { return runBucklingProbe(cfg, rate); }, o);
-  if (!r.found) throw std::runtime_error("buckling threshold not found: " + r.message);
-  return interpolatedThreshold(r, cfg.buckling_tilt_deg) * units::kRadPerSecPerRpm;
+/// part), the flagellum's largest tilt in the steady window against the rate, at the
+/// 2 kThresholdWindowHalfWidth + 1 rates of the fixed grid kThresholdGridRatio^k rpm nearest the
+/// measured value (the window moving toward the crossing when it lies outside): the lowest rate
+/// where their tilt, averaged over three neighbouring rates and interpolated between them,
+/// reaches the criterion. It does not depend on where the window starts, moves continuously with
+/// the model and takes out most of the tilt's wobble with the rate. The window's runs use
+/// `threads` threads.
+double predictedThreshold(const SimulationConfig& cfg, double measured, int threads) {
+  // The window's runs on `threads` threads.
+  auto run_all = [&](const std::vector<double>& rates) {
+    std::vector<ThresholdProbe> made(rates.size());
+    parallelFor(static_cast<int>(rates.size()), threads,
+                [&](int i) { made[i] = runBucklingProbe(cfg, rates[i]); });
+    return made;
+  };
+  const WindowThreshold w = windowThreshold(
+      ProbeBatch(run_all), std::abs(measured) * units::kRpmPerRadPerSec, kThresholdGridRatio,
+      kThresholdWindowHalfWidth, cfg.buckling_tilt_deg, kThresholdWindowMoves);
+  if (!std::isfinite(w.threshold)) throw std::runtime_error("buckling threshold: " + w.message);
+  return w.threshold * units::kRadPerSecPerRpm;
 }
 
 /// The model's value of a steady-state output from the simulation summary; false for an output
@@ -225,6 +229,8 @@ std::vector<Evaluation> Evaluator::evaluateMany(const Model& model,
       }
     for (int s = 0; s < static_cast<int>(data_.series.size()); ++s) jobs.push_back({m, true, s, 0});
   }
+  // Threads the jobs leave idle go to the runs of a job's threshold window.
+  for (Job& job : jobs) job.threads = std::max(1, options_.jobs / std::max<int>(1, jobs.size()));
   std::vector<Evaluation> per_job(jobs.size());
   parallelFor(static_cast<int>(jobs.size()), options_.jobs, [&](int j) {
     runJob(model, values[jobs[j].model_index], jobs[j], part, per_job[j]);
@@ -281,7 +287,7 @@ void Evaluator::runTableJob(const Model& model, const std::vector<double>& value
     if (!std::isfinite(measured)) continue;
     double predicted = 0.0;
     if (name == "buckling_threshold")
-      predicted = predictedThreshold(cfg, measured);
+      predicted = predictedThreshold(cfg, measured, job.threads);
     else if (!predictedOutput(m, name, predicted))
       continue;
     ResidualPoint p;

@@ -2,9 +2,14 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <map>
 #include <memory>
+
+#include "minimise_one_dimension.h"
 
 namespace flagella {
 namespace identify {
@@ -191,6 +196,70 @@ bool solve(SimulationResiduals& cost, const Coordinates& coords, const FitOption
   return true;
 }
 
+/// Minimises chi^2 over the one free coordinate u[0] without derivatives (bracketing + Brent);
+/// the cost's cache is left holding the best evaluation. False (message in `result`) if no
+/// point could be evaluated.
+bool solveAlongOne(SimulationResiduals& cost, const Model& model, const Evaluator& evaluator,
+                   const Coordinates& coords, const FitOptions& options, const Evaluation& start,
+                   std::vector<double>& u, FitResult& result) {
+  const FitParameter& p = coords.parameters[coords.free_index[0]];
+  const double scale = p.log_scale ? 1.0 : p.upper - p.lower;
+  OneDimensionOptions o;
+  o.lower = coords.lowerU(0);
+  o.upper = coords.upperU(0);
+  o.step = options.bracket_step * scale;
+  o.tolerance = options.bracket_tolerance * scale;
+  o.max_evaluations = std::max(4, 2 * options.max_iterations);
+  double best_u = u[0], best_chi = chiSquare(start);
+  Evaluation best = start;
+  std::map<double, double> seen = {{u[0], best_chi}};  // Brent may ask for a point again
+  auto costs = [&](const std::vector<double>& xs) {
+    std::vector<double> fresh;
+    std::vector<std::vector<double>> points;
+    // A point already seen, within a thousandth of the final bracket (golden sections of the
+    // bracket fall on the bracketing points up to rounding).
+    const double same = 1e-3 * o.tolerance;
+    auto known = [&](double x) {
+      const auto it = seen.lower_bound(x - same);
+      return it != seen.end() && std::abs(it->first - x) <= same ? it : seen.end();
+    };
+    for (double x : xs)
+      if (known(x) == seen.end() && std::find(fresh.begin(), fresh.end(), x) == fresh.end()) {
+        fresh.push_back(x);
+        points.push_back(coords.values(&x));
+      }
+    const std::vector<Evaluation> evals = evaluator.evaluateMany(model, points, Part::kTrain);
+    for (size_t i = 0; i < fresh.size(); ++i) {
+      const bool usable =
+          evals[i].ok && static_cast<int>(evals[i].points.size()) == result.residual_count;
+      const double chi = usable ? chiSquare(evals[i]) : std::numeric_limits<double>::infinity();
+      seen[fresh[i]] = chi;
+      if (options.progress) {
+        char line[200];
+        std::snprintf(line, sizeof line, "    %s = %.5g: chi^2 = %.4g%s", p.name.c_str(),
+                      points[i][coords.free_index[0]], chi, usable ? "" : " (failed)");
+        options.progress(line);
+      }
+      if (chi < best_chi) {
+        best_chi = chi;
+        best_u = fresh[i];
+        best = evals[i];
+      }
+    }
+    result.evaluations += static_cast<int>(fresh.size());
+    std::vector<double> chi;
+    for (double x : xs) chi.push_back(known(x)->second);
+    return chi;
+  };
+  const OneDimensionResult r = minimiseOneDimension(costs, u[0], chiSquare(start), o);
+  result.iterations = r.evaluations;
+  result.message = r.message;
+  if (!r.ok) return false;
+  u[0] = best_u;
+  cost.prime(u, best);
+  return true;
+}
+
 /// Covariance of u from the Jacobian at the optimum, (J^T J)^+ (known measurement noise), into
 /// result.sigma, and the training chi^2 from the same evaluation; false if it cannot be
 /// evaluated (result.sigma and result.chi_square left unchanged).
@@ -261,7 +330,11 @@ FitResult fitModel(Model& model, const Evaluator& evaluator, const FitOptions& o
   SimulationResiduals cost(model, evaluator, coords, options, result.residual_count,
                            &result.evaluations);
   cost.prime(u, start);
-  if (n > 0 && !solve(cost, coords, options, u, result)) return result;
+  const bool along_one = n == 1 && options.derivative_free;
+  result.method = along_one ? "Brent" : "Levenberg-Marquardt";
+  if (along_one && !solveAlongOne(cost, model, evaluator, coords, options, start, u, result))
+    return result;
+  if (!along_one && n > 0 && !solve(cost, coords, options, u, result)) return result;
   result.values = coords.values(u.data());
   result.sigma.assign(result.values.size(), 0.0);
   if (!uncertaintiesAt(cost, coords, u, result)) {

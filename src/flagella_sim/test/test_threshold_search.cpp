@@ -1,7 +1,9 @@
 // The bracketing + bisection search for a switching rate (docs/model.md 8.4.4) on properties with
 // a known switch point: the result must bracket it within the tolerance, whatever the guesses.
+// The smoothed crossing on the fixed rate grid (8.4.5) on indicators with a closed-form crossing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -108,6 +110,100 @@ TEST(ThresholdSearch, ReportsWhyNoThresholdWasFound) {
       << failed.message;
   o.max_runs = 3;
   EXPECT_FALSE(findThreshold(stepAt(37.3), o).found);
+}
+
+/// A probe whose indicator is `indicator(rate)`.
+std::function<ThresholdProbe(double)> probeOf(const std::function<double(double)>& indicator) {
+  return [=](double rate) {
+    ThresholdProbe p;
+    p.rate = rate;
+    p.indicator = indicator(rate);
+    return p;
+  };
+}
+
+// A tilt linear in log rate: the three-rate average on a geometric grid is exact and so is the
+// interpolation in log rate; the crossing is where 15 + 40 log(rate / 5.1) = 15.
+double logLine(double rate) { return 15.0 + 40.0 * std::log(rate / 5.1); }
+
+TEST(ThresholdSearch, SmoothedCrossingOfALogLineIsExact) {
+  const WindowThreshold w = windowThreshold(probeOf(logLine), 5.0, 1.02, 4, 15.0);
+  ASSERT_EQ(w.runs.size(), 9u);
+  for (size_t i = 0; i < w.runs.size(); ++i)  // the global grid 1.02^k rpm
+    EXPECT_NEAR(std::log(w.runs[i].rate) / std::log(1.02),
+                std::round(std::log(w.runs[i].rate) / std::log(1.02)), 1e-9);
+  EXPECT_NEAR(w.threshold, 5.1, 1e-12) << w.message;
+}
+
+// The largest tilt wobbles with the rate (alternating from one grid rate to the next): the
+// crossing of neighbouring runs moves by wobble / slope, the averaged crossing much less; and it
+// does not depend on where the window sits.
+double wobbly(double rate) {
+  const long k = std::lround(std::log(rate) / std::log(1.02));
+  return logLine(rate) + (k % 2 == 0 ? 0.7 : -0.7);
+}
+
+TEST(ThresholdSearch, SmoothedCrossingAveragesAWobbleWhereverTheWindowSits) {
+  const double slope_per_grid_step = 40.0 * std::log(1.02);  // deg per grid rate
+  const double unsmoothed_shift = 5.1 * (std::pow(1.02, 0.7 / slope_per_grid_step) - 1.0);
+  const double centred = windowThreshold(probeOf(wobbly), 5.1, 1.02, 4, 15.0).threshold;
+  EXPECT_LT(std::abs(centred - 5.1), 0.5 * unsmoothed_shift) << centred;
+  for (double center : {4.85, 4.95, 5.2, 5.3}) {  // two grid rates either way
+    const WindowThreshold w = windowThreshold(probeOf(wobbly), center, 1.02, 4, 15.0);
+    EXPECT_DOUBLE_EQ(w.threshold, centred) << center << " " << w.message;
+  }
+}
+
+TEST(ThresholdSearch, SmoothedCrossingMovesContinuouslyWithTheIndicator) {
+  // Raising every tilt by d moves the crossing down by about d / slope, in proportion while the
+  // crossing stays between the same two rates.
+  auto crossingRaisedBy = [](double d) {
+    return windowThreshold(probeOf([d](double r) { return wobbly(r) + d; }), 5.1, 1.02, 4, 15.0)
+        .threshold;
+  };
+  const double base = crossingRaisedBy(0.0);
+  const double per_hundredth = crossingRaisedBy(0.01) - base;
+  EXPECT_LT(per_hundredth, 0.0);
+  EXPECT_NEAR(per_hundredth, -0.01 * 5.1 / 40.0, 0.5 * 0.01 * 5.1 / 40.0);
+  for (double d : {0.002, 0.005, 0.02}) {
+    const double moved = crossingRaisedBy(d) - base;
+    EXPECT_NEAR(moved / per_hundredth, d / 0.01, 0.01 * d / 0.01) << d;
+  }
+}
+
+TEST(ThresholdSearch, AWindowAwayFromTheCrossingMovesToItAndGivesTheSameThreshold) {
+  const double centred = windowThreshold(probeOf(wobbly), 5.1, 1.02, 4, 15.0).threshold;
+  for (double center : {3.0, 4.0, 6.5, 9.0}) {
+    const WindowThreshold w = windowThreshold(probeOf(wobbly), center, 1.02, 4, 15.0);
+    EXPECT_DOUBLE_EQ(w.threshold, centred) << center << " " << w.message;
+    std::vector<double> rates;  // no rate run twice
+    for (const ThresholdProbe& p : w.runs) rates.push_back(p.rate);
+    std::sort(rates.begin(), rates.end());
+    EXPECT_EQ(std::adjacent_find(rates.begin(), rates.end()), rates.end()) << center;
+  }
+}
+
+TEST(ThresholdSearch, SmoothedCrossingIsNaNWhenItIsNotInside) {
+  EXPECT_TRUE(std::isnan(windowThreshold(probeOf(logLine), 4.0, 1.02, 4, 15.0, 0).threshold));
+  const WindowThreshold above = windowThreshold(probeOf(logLine), 6.5, 1.02, 4, 15.0, 1);
+  EXPECT_TRUE(std::isnan(above.threshold));  // already above the criterion: crossing below
+  EXPECT_NE(above.message.find("does not cross 15"), std::string::npos) << above.message;
+  EXPECT_EQ(above.runs.size(), 9u + 6u);  // one move of 2 x 4 - 2 rates
+  auto failing = [](double rate) {
+    ThresholdProbe p;
+    p.failed = rate > 5.2;
+    p.error = "Newton did not converge";
+    return p;
+  };
+  const WindowThreshold failed = windowThreshold(failing, 5.1, 1.02, 4, 15.0);
+  EXPECT_TRUE(std::isnan(failed.threshold));
+  EXPECT_NE(failed.message.find("failed: Newton did not converge"), std::string::npos);
+  EXPECT_LT(failed.runs.size(), 9u);  // stopped at the failure
+  std::vector<ThresholdProbe> two(2);
+  EXPECT_TRUE(std::isnan(smoothedCrossing(two, 15.0)));
+  EXPECT_THROW(windowThreshold(probeOf(logLine), 0.0, 1.02, 4, 15.0), std::invalid_argument);
+  EXPECT_THROW(windowThreshold(probeOf(logLine), 5.0, 1.0, 4, 15.0), std::invalid_argument);
+  EXPECT_THROW(windowThreshold(probeOf(logLine), 5.0, 1.02, 1, 15.0), std::invalid_argument);
 }
 
 TEST(ThresholdSearch, BadOptionsNameTheField) {

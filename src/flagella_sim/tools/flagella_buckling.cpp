@@ -2,11 +2,13 @@
 // 8.4.4), by bracketing and bisection over full runs; optionally swept over one config parameter
 // (CSV + plot).
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -29,7 +31,18 @@ struct Options {
   ThresholdSearchOptions search;
   std::string json, sweep, out_dir = "buckling_sweep", plot_script = FLAGELLA_BUCKLING_PLOT_SCRIPT;
   int jobs = 2;
+  int refine = 0;  ///< > 0: also the smoothed threshold over 2 refine + 1 grid rates
   bool quiet = false;
+};
+
+/// Rate ratio of the refinement runs: the calibration's grid (docs/model.md 8.4.5).
+constexpr double kRefineGridRatio = 1.02;
+constexpr int kRefineMoves = 4;  ///< window moves toward a crossing outside it
+
+/// A bisection's threshold and, with --refine, the straight-line crossing over runs around it.
+struct Search {
+  ThresholdResult bisection;
+  flagella::WindowThreshold refined;
 };
 
 std::string criterion(const SimulationConfig& c) {
@@ -41,7 +54,27 @@ std::string criterion(const SimulationConfig& c) {
   return s.str();
 }
 
-nlohmann::ordered_json resultJson(const SimulationConfig& c, const ThresholdResult& r) {
+nlohmann::ordered_json runsJson(const std::vector<ThresholdProbe>& probes) {
+  nlohmann::ordered_json runs = nlohmann::ordered_json::array();
+  for (const ThresholdProbe& p : probes) {
+    nlohmann::ordered_json run;
+    run["omega_rpm"] = p.rate;
+    run["max_tilt_deg"] = p.indicator;
+    run["buckled"] = p.above;
+    run["wall_s"] = p.wall_seconds;
+    run["failed"] = p.failed;
+    run["error"] = p.error;
+    runs.push_back(run);
+  }
+  return runs;
+}
+
+nlohmann::ordered_json number(double x) {
+  return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
+}
+
+nlohmann::ordered_json resultJson(const SimulationConfig& c, const Search& s, int refine) {
+  const ThresholdResult& r = s.bisection;
   nlohmann::ordered_json j;
   j["config"] = c.source;
   j["found"] = r.found;
@@ -54,18 +87,19 @@ nlohmann::ordered_json resultJson(const SimulationConfig& c, const ThresholdResu
   rule["duration_s"] = c.duration;
   rule["steady_fraction"] = c.steady_fraction;
   j["criterion"] = rule;
-  nlohmann::ordered_json runs = nlohmann::ordered_json::array();
-  for (const ThresholdProbe& p : r.runs) {
-    nlohmann::ordered_json run;
-    run["omega_rpm"] = p.rate;
-    run["max_tilt_deg"] = p.indicator;
-    run["buckled"] = p.above;
-    run["wall_s"] = p.wall_seconds;
-    run["failed"] = p.failed;
-    run["error"] = p.error;
-    runs.push_back(run);
+  j["runs"] = runsJson(r.runs);
+  if (refine > 0) {
+    nlohmann::ordered_json refined;
+    refined["smoothed_threshold_rpm"] = number(s.refined.threshold);
+    refined["definition"] =
+        "lowest rate where the largest tilt, averaged over three neighbouring rates of the grid "
+        "1.02^k rpm and interpolated in log rate, reaches the criterion; runs at the " +
+        std::to_string(2 * refine + 1) +
+        " grid rates nearest the bisection threshold (the calibration's threshold)";
+    if (!s.refined.message.empty()) refined["message"] = s.refined.message;
+    refined["runs"] = runsJson(s.refined.runs);
+    j["refined"] = refined;
   }
-  j["runs"] = runs;
   return j;
 }
 
@@ -77,29 +111,43 @@ void printRun(const std::string& prefix, const ThresholdProbe& p) {
                  p.indicator, p.above ? "buckled" : "helical", p.wall_seconds);
 }
 
-ThresholdResult search(const SimulationConfig& c, const Options& o, const std::string& prefix) {
+Search search(const SimulationConfig& c, const Options& o, const std::string& prefix) {
   static std::mutex print;  // one lock for every search: sweep threads print whole lines
-  return flagella::findThreshold([&](double rpm) { return flagella::runBucklingProbe(c, rpm); },
-                                 o.search,
-                                 [&](const ThresholdProbe& p) {
-                                   if (o.quiet) return;
-                                   std::lock_guard<std::mutex> lock(print);
-                                   printRun(prefix, p);
-                                 });
+  auto probe = [&](double rpm) { return flagella::runBucklingProbe(c, rpm); };
+  auto progress = [&](const ThresholdProbe& p) {
+    if (o.quiet) return;
+    std::lock_guard<std::mutex> lock(print);
+    printRun(prefix, p);
+  };
+  Search s;
+  s.bisection = flagella::findThreshold(probe, o.search, progress);
+  s.refined.threshold = std::numeric_limits<double>::quiet_NaN();
+  if (o.refine > 0 && s.bisection.found)
+    s.refined = flagella::windowThreshold(probe, s.bisection.threshold, kRefineGridRatio, o.refine,
+                                          c.buckling_tilt_deg, kRefineMoves, progress);
+  return s;
 }
 
 int single(const Options& o) {
   const SimulationConfig c = flagella::loadSimulationConfig(o.config, o.overrides);
   if (!o.quiet) std::fprintf(stderr, "criterion: %s\n", criterion(c).c_str());
-  const ThresholdResult r = search(c, o, "  ");
+  const Search s = search(c, o, "  ");
+  const ThresholdResult& r = s.bisection;
   if (r.found)
     std::printf("buckling threshold: %.3f rpm (bracket %.3f .. %.3f rpm, %zu runs)\n", r.threshold,
                 r.low, r.high, r.runs.size());
   else
     std::printf("no buckling threshold: %s\n", r.message.c_str());
+  if (o.refine > 0 && r.found) {
+    if (std::isfinite(s.refined.threshold))
+      std::printf("smoothed threshold: %.3f rpm (%zu more runs)\n", s.refined.threshold,
+                  s.refined.runs.size());
+    else
+      std::printf("no smoothed threshold: %s\n", s.refined.message.c_str());
+  }
   if (!o.json.empty()) {
     std::ofstream out(o.json);
-    out << resultJson(c, r).dump(2) << "\n";
+    out << resultJson(c, s, o.refine).dump(2) << "\n";
     if (!out) throw std::runtime_error("--json: cannot write " + o.json);
     std::printf("wrote %s\n", o.json.c_str());
   }
@@ -128,7 +176,7 @@ int sweep(const Options& o) {
     configs.push_back(flagella::loadSimulationConfig(o.config, overrides));
   }
   if (!o.quiet) std::fprintf(stderr, "criterion: %s\n", criterion(configs.front()).c_str());
-  std::vector<ThresholdResult> results(values.size());
+  std::vector<Search> searches(values.size());
   std::mutex mutex;
   size_t next = 0;
   auto worker = [&] {
@@ -139,7 +187,7 @@ int sweep(const Options& o) {
         if (next >= values.size()) return;
         i = next++;
       }
-      results[i] = search(configs[i], o, "  [" + key + " = " + values[i] + "] ");
+      searches[i] = search(configs[i], o, "  [" + key + " = " + values[i] + "] ");
     }
   };
   std::vector<std::thread> threads;
@@ -149,20 +197,22 @@ int sweep(const Options& o) {
   const std::string table = o.out_dir + "/buckling_sweep.csv";
   std::ofstream csv(table);
   csv << "parameter,value,buckling_threshold_rpm,bracket_low_rpm,bracket_high_rpm,runs,found,"
-         "message\n";
+         "message,smoothed_threshold_rpm\n";
   for (size_t i = 0; i < values.size(); ++i) {
-    const ThresholdResult& r = results[i];
+    const ThresholdResult& r = searches[i].bisection;
+    const double refined = searches[i].refined.threshold;
     csv << key << "," << values[i] << "," << (r.found ? std::to_string(r.threshold) : "") << ","
         << (r.found ? std::to_string(r.low) : "") << "," << (r.found ? std::to_string(r.high) : "")
-        << "," << r.runs.size() << "," << (r.found ? 1 : 0) << ",\"" << r.message << "\"\n";
+        << "," << r.runs.size() << "," << (r.found ? 1 : 0) << ",\"" << r.message << "\","
+        << (std::isfinite(refined) ? std::to_string(refined) : "") << "\n";
     std::printf("%s = %s: %s\n", key.c_str(), values[i].c_str(),
                 r.found ? (std::to_string(r.threshold) + " rpm").c_str() : r.message.c_str());
   }
   csv.close();
   std::printf("sweep table: %s\n", table.c_str());
   flagella::cli::plotTable(o.plot_script, table, o.out_dir + "/buckling_sweep.png");
-  for (const ThresholdResult& r : results)
-    if (!r.found) return 3;
+  for (const Search& search : searches)
+    if (!search.bisection.found) return 3;
   return 0;
 }
 
@@ -191,6 +241,13 @@ int main(int argc, char** argv) {
   app.add_option("--jobs", o.jobs, "sweep mode: values searched in parallel")
       ->capture_default_str();
   app.add_option("--plot-script", o.plot_script, "sweep mode: matplotlib script ('' to skip)");
+  app.add_option(
+         "--refine", o.refine,
+         "also run the 2N+1 rates 1.02^k rpm nearest the threshold (N >= 2) and report where "
+         "their tilt, averaged over neighbouring rates, crosses the criterion (the "
+         "calibration's estimate; 0: off)")
+      ->check(CLI::Range(2, 20))
+      ->capture_default_str();
   app.add_flag("--quiet", o.quiet, "no progress lines");
   try {
     app.parse(argc, argv);

@@ -43,8 +43,10 @@ struct CalibrationResult {
 /// A split that holds nothing out (every experiment trains).
 Split trainingOnlySplit(const MeasuredData& data);
 
-/// `options` with the finite-difference step and stopping rule the data need (kThresholdLogStep
-/// and kThresholdFunctionTolerance for thresholds).
+/// `options` with the method, finite-difference step and stopping rule the data need: for
+/// thresholds a derivative-free search for one free parameter (FitOptions::derivative_free),
+/// kThresholdLogStep (also the step of the uncertainty's Jacobian) and
+/// kThresholdFunctionTolerance.
 FitOptions fitOptionsFor(const MeasuredData& data, FitOptions options);
 
 /// Fits `options.free` of `baseline` (read from `source`) on all of `data`. Throws ConfigError

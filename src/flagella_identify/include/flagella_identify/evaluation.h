@@ -20,9 +20,12 @@ struct Split {
   std::vector<double> series_split_time;  ///< run time from which a series is held out [s]
 };
 
-/// A model's buckling threshold is searched on rates measured x this ratio^k (then interpolated
-/// between the two neighbouring grid rates that bracket it).
+/// A model's buckling threshold comes from runs at the rates this ratio^k rpm nearest the
+/// measured one (|k - k_measured| <= kThresholdWindowHalfWidth), the window moving at most
+/// kThresholdWindowMoves times toward the crossing (docs/model.md 8.4.5).
 constexpr double kThresholdGridRatio = 1.02;
+constexpr int kThresholdWindowHalfWidth = 4;
+constexpr int kThresholdWindowMoves = 8;  // 6 rates each: up to x1.02^48 = x2.6 from the data
 
 /// Held-out every `stride`-th row of each table in order of |omega_T| (so the held-out rows
 /// span the speed range), and the last `held_out_fraction` of each time series.
@@ -81,6 +84,7 @@ class Evaluator {
     int model_index;
     bool is_series;
     int source, row;
+    int threads = 1;  ///< for the job's own runs (a threshold's window) when jobs > tasks
   };
   void runJob(const Model& model, const std::vector<double>& values, const Job& job, Part part,
               Evaluation& out) const;

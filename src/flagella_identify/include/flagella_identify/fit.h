@@ -1,6 +1,7 @@
 // Least-squares fit of a model's parameters to the training part of a data set (Ceres
-// Levenberg-Marquardt; every residual evaluation runs the simulations), with the covariance
-// of the estimate from the Jacobian at the optimum.
+// Levenberg-Marquardt, or Brent's method for one parameter of a cost too rough to difference;
+// every residual evaluation runs the simulations), with the covariance of the estimate from the
+// Jacobian at the optimum.
 #pragma once
 
 #include <Eigen/Dense>
@@ -18,6 +19,12 @@ struct FitOptions {
   double function_tolerance = 1e-4;  ///< relative change of the cost that ends the fit
   double log_step = 1e-3;            ///< finite-difference step of log-scale parameters
   double linear_step = 1e-5;         ///< ... of linear parameters, as a fraction of their range
+  /// One free parameter: minimise chi^2 without derivatives (downhill bracketing, then Brent's
+  /// method), for outputs that scatter with the model (buckling thresholds, docs/model.md
+  /// 8.4.5). More free parameters still use Levenberg-Marquardt.
+  bool derivative_free = false;
+  double bracket_step = 0.2;        ///< derivative-free: first step (log scale; else x the range)
+  double bracket_tolerance = 0.04;  ///< derivative-free: final bracket width (same units)
   /// Called with a line of progress text.
   std::function<void(const std::string&)> progress;
 };
@@ -31,6 +38,7 @@ struct FitResult {
   int residual_count = 0;
   int evaluations = 0;  ///< model evaluations (each one simulates the training set)
   int iterations = 0;
+  std::string method;  ///< "Levenberg-Marquardt" or "Brent"
 };
 
 /// Fits the parameters whose `free` flag is set (all if empty), starting from model values.

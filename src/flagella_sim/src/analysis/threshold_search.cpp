@@ -1,7 +1,9 @@
 #include "flagella_sim/analysis/threshold_search.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -121,6 +123,92 @@ double interpolatedThreshold(const ThresholdResult& result, double level) {
     return result.threshold;
   const double w = (level - below->indicator) / (above->indicator - below->indicator);
   return below->rate + w * (above->rate - below->rate);
+}
+
+double smoothedCrossing(const std::vector<ThresholdProbe>& probes, double level) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (probes.size() < 3) return nan;
+  for (const ThresholdProbe& p : probes)
+    if (p.failed) return nan;
+  std::vector<double> averaged;  // at probes[1 .. n-2]
+  for (size_t i = 1; i + 1 < probes.size(); ++i)
+    averaged.push_back((probes[i - 1].indicator + probes[i].indicator + probes[i + 1].indicator) /
+                       3.0);
+  if (averaged.front() >= level) return nan;  // the crossing lies below these rates
+  for (size_t i = 0; i + 1 < averaged.size(); ++i) {
+    if (averaged[i + 1] < level) continue;
+    const double w = (level - averaged[i]) / (averaged[i + 1] - averaged[i]);
+    const double low = probes[i + 1].rate, high = probes[i + 2].rate;
+    return low * std::pow(high / low, w);
+  }
+  return nan;
+}
+
+WindowThreshold windowThreshold(const std::function<ThresholdProbe(double)>& probe, double center,
+                                double grid_ratio, int half_width, double level, int max_moves,
+                                const std::function<void(const ThresholdProbe&)>& progress) {
+  // One run after the other, stopping at a failed one.
+  auto one_by_one = [&](const std::vector<double>& rates) {
+    std::vector<ThresholdProbe> made;
+    for (double rate : rates) {
+      made.push_back(probe(rate));
+      if (made.back().failed) break;
+    }
+    return made;
+  };
+  return windowThreshold(ProbeBatch(one_by_one), center, grid_ratio, half_width, level, max_moves,
+                         progress);
+}
+
+WindowThreshold windowThreshold(const ProbeBatch& probes, double center, double grid_ratio,
+                                int half_width, double level, int max_moves,
+                                const std::function<void(const ThresholdProbe&)>& progress) {
+  require(std::isfinite(center) && center > 0.0, "center", center, "> 0");
+  require(std::isfinite(grid_ratio) && grid_ratio > 1.0, "grid_ratio", grid_ratio, "> 1");
+  require(half_width >= 2, "half_width", half_width, ">= 2");
+  require(max_moves >= 0, "max_moves", max_moves, ">= 0");
+  WindowThreshold w;
+  w.threshold = std::numeric_limits<double>::quiet_NaN();
+  std::map<long, ThresholdProbe> by_k;  // every run made, by grid index
+  long low = std::lround(std::log(center) / std::log(grid_ratio)) - half_width;
+  for (int move = 0;; ++move) {
+    std::vector<long> missing;
+    std::vector<double> rates;
+    for (long k = low; k <= low + 2 * half_width; ++k)
+      if (!by_k.count(k)) {
+        missing.push_back(k);
+        rates.push_back(std::pow(grid_ratio, static_cast<double>(k)));
+      }
+    const std::vector<ThresholdProbe> made =
+        rates.empty() ? std::vector<ThresholdProbe>{} : probes(rates);
+    for (size_t i = 0; i < made.size() && i < rates.size(); ++i) {
+      ThresholdProbe p = made[i];
+      p.rate = rates[i];
+      w.runs.push_back(p);
+      if (progress) progress(p);
+      if (p.failed) {
+        w.message = "run at " + number(p.rate) + " rpm failed: " + p.error;
+        return w;
+      }
+      by_k.emplace(missing[i], p);
+    }
+    if (made.size() < rates.size()) throw std::logic_error("windowThreshold: runs missing");
+    std::vector<ThresholdProbe> window;
+    for (long k = low; k <= low + 2 * half_width; ++k) window.push_back(by_k.at(k));
+    w.threshold = smoothedCrossing(window, level);
+    if (std::isfinite(w.threshold)) return w;
+    // Averaged indicator already at the level at the window's second rate: the crossing is below.
+    const bool below =
+        (window[0].indicator + window[1].indicator + window[2].indicator) / 3.0 >= level;
+    if (move == max_moves) {
+      w.message = "the indicator averaged over neighbouring rates does not cross " + number(level) +
+                  " between " + number(window[1].rate) + " and " +
+                  number(window[window.size() - 2].rate) + " rpm (" + std::to_string(move) +
+                  " window moves)";
+      return w;
+    }
+    low += (below ? -1 : 1) * (2 * half_width - 2);
+  }
 }
 
 }  // namespace flagella

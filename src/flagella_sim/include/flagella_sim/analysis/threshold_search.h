@@ -57,4 +57,32 @@ ThresholdResult findThreshold(const std::function<ThresholdProbe(double)>& probe
 /// `level` (an indicator that is not monotone near the threshold); NaN if `result` is not found.
 double interpolatedThreshold(const ThresholdResult& result, double level);
 
+/// The lowest rate where the indicator, averaged over three neighbouring rates and interpolated
+/// linearly in log rate between them, reaches `level` from below. `probes` are runs at
+/// consecutive rates of a geometric grid, in rate order. The average takes out most of a wobble
+/// with the rate (docs/model.md 8.4.5); the crossing depends only on the runs around it. NaN if
+/// fewer than three probes, a failed one, or no crossing inside (the averaged indicator already at
+/// `level` at the second rate, or below it up to the last but one).
+double smoothedCrossing(const std::vector<ThresholdProbe>& probes, double level);
+
+/// A threshold from runs on the global rate grid grid_ratio^k rpm (k integer): the 2 half_width
+/// + 1 grid rates nearest `center`, and their smoothedCrossing at `level`. When the crossing lies
+/// below or above them, the window moves that way by 2 half_width - 2 rates (the runs it shares
+/// are reused), at most `max_moves` times. Since the grid does not move with `center`, every
+/// window that holds the crossing gives the same threshold, and it moves continuously with the
+/// model. The runs stop at the first failed one.
+struct WindowThreshold {
+  double threshold = 0.0;            ///< [rpm], NaN if not found
+  std::vector<ThresholdProbe> runs;  ///< in the order made
+  std::string message;               ///< why there is no threshold
+};
+WindowThreshold windowThreshold(const std::function<ThresholdProbe(double)>& probe, double center,
+                                double grid_ratio, int half_width, double level, int max_moves = 8,
+                                const std::function<void(const ThresholdProbe&)>& progress = {});
+/// The same with the runs of a window made by one call (they may run in parallel).
+using ProbeBatch = std::function<std::vector<ThresholdProbe>(const std::vector<double>& rates)>;
+WindowThreshold windowThreshold(const ProbeBatch& probes, double center, double grid_ratio,
+                                int half_width, double level, int max_moves = 8,
+                                const std::function<void(const ThresholdProbe&)>& progress = {});
+
 }  // namespace flagella
