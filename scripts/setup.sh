@@ -5,7 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake catkin python3-catkin-pkg
-  libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libsuitesparse-dev libopenblas-dev
+  libeigen3-dev libceres-dev libboost-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libsuitesparse-dev libopenblas-dev
   libgtest-dev googletest libbenchmark-dev
   python3-matplotlib python3-numpy
   # ROS 1 (Debian's own packages, under /usr) and LCM
