@@ -554,6 +554,36 @@ TEST(HelicalRun, ShortUntetheredRunStaysFinite) {
   EXPECT_FALSE(m.buckled);
 }
 
+// The fastest motor a config accepts, started without a ramp: Newton follows it by subdividing
+// steps (docs/model.md 1.10) or stops with a SolverFailure that names the time; the state is
+// finite either way. Faster rates are refused by the config with the field and its range.
+TEST(HelicalRun, FastestAcceptedMotorRateRunsOrFailsCleanlyAndFasterIsRefused) {
+  const SimulationConfig c = loadSimulationConfig(
+      shippedConfig("helical_robot.yaml"),
+      {"motor.omega_rpm=10000", "motor.ramp_time=0", "robot.edge_length=0.015"});
+  Simulation sim(c);
+  try {
+    sim.run(0.05);
+    EXPECT_NEAR(sim.time(), 0.05, 1e-9);
+  } catch (const SolverFailure& e) {
+    EXPECT_NE(std::string(e.what()).find("t ="), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(sim.state().q.allFinite());
+  EXPECT_TRUE(sim.state().qdot.allFinite());
+  for (const TrajectorySample& s : sim.trajectory()) {
+    ASSERT_TRUE(s.head_position.allFinite());
+    ASSERT_TRUE(std::isfinite(s.omega_t));
+  }
+  try {
+    loadSimulationConfig(shippedConfig("helical_robot.yaml"), {"motor.omega_rpm=20000"});
+    FAIL() << "expected a ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("motor.omega_rpm must be in [-10000, 10000] rpm"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(HelicalRun, GimbalHoldsPivotAndHeadRoll) {
   const SimulationConfig c =
       loadSimulationConfig(shippedConfig("helical_gimbal.yaml"), {"motor.omega_rpm=30"});
