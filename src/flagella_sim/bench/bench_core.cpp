@@ -1,5 +1,6 @@
 // Benchmark program: real-time factor of the shipped robots and time per step against node
 // count (with the fitted scaling exponent). Prints figures; asserts nothing.
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -49,8 +50,7 @@ Timing timeConfig(const std::string& path, const std::vector<std::string>& overr
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  const std::string config_dir = argc > 1 ? argv[1] : "config";
+int run(const std::string& config_dir) {
   std::printf("flagella core benchmark (one core, median of %d runs, after %.0f s warm-up)\n\n",
               kRepeats, kWarmupSeconds);
   std::printf("%-44s %10s %12s %14s %10s\n", "case", "DOFs", "us/step", "real-time x",
@@ -96,4 +96,20 @@ int main(int argc, char** argv) {
   std::printf("scaling exponent (time per step ~ nodes^p): p = %.2f\n",
               fitLine(log_nodes, log_time).slope);
   return 0;
+}
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "flagella_bench: time per step and real-time factor of the shipped robots "
+      "(prints figures)"};
+  std::string config_dir = "config";
+  app.add_option("config_dir", config_dir, "folder holding the shipped configs")
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  try {
+    return run(config_dir);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  }
 }

@@ -2,6 +2,7 @@
 // factor, a per-part breakdown of one step's cost, the growth of the cost with node count, and
 // the dt accuracy of speed and head rate (dt = 1e-2 s against 1e-3 s). Prints figures; asserts
 // nothing. Usage: flagella_bench_helical [CONFIG_DIR] [--quick]
+#include <CLI/CLI.hpp>
 #include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
@@ -103,16 +104,7 @@ Swim swim(const std::string& path, std::vector<std::string> overrides, double dt
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  std::string config_dir = "config";
-  bool quick = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--quick")
-      quick = true;
-    else
-      config_dir = a;
-  }
+int run(const std::string& config_dir, bool quick) {
   const std::string robot = config_dir + "/helical_robot.yaml";
   std::printf("helical robot benchmark (one core), %s\n\n", robot.c_str());
   const std::vector<std::string> base{"motor.omega_rpm=10"};  // cruise, below the threshold
@@ -154,4 +146,22 @@ int main(int argc, char** argv) {
               100.0 * (coarse.speed_mm_s - fine.speed_mm_s) / fine.speed_mm_s,
               100.0 * (coarse.omega_h_rpm - fine.omega_h_rpm) / fine.omega_h_rpm);
   return 0;
+}
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "flagella_bench_helical: real-time factor, per-part step cost, cost against node "
+      "count and dt accuracy of the helical robot (prints figures)"};
+  std::string config_dir = "config";
+  bool quick = false;
+  app.add_option("config_dir", config_dir, "folder holding helical_robot.yaml")
+      ->capture_default_str();
+  app.add_flag("--quick", quick, "fewer steps and a 4 s accuracy run");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    return run(config_dir, quick);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  }
 }
