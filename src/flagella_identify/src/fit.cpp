@@ -210,7 +210,7 @@ bool solveAlongOne(SimulationResiduals& cost, const Model& model, const Evaluato
   o.step = options.bracket_step * scale;
   o.tolerance = options.bracket_tolerance * scale;
   o.max_evaluations = std::max(4, 2 * options.max_iterations);
-  double best_u = u[0], best_chi = chiSquare(start);
+  double best_chi = chiSquare(start);
   Evaluation best = start;
   std::map<double, double> seen = {{u[0], best_chi}};  // Brent may ask for a point again
   auto costs = [&](const std::vector<double>& xs) {
@@ -242,7 +242,6 @@ bool solveAlongOne(SimulationResiduals& cost, const Model& model, const Evaluato
       }
       if (chi < best_chi) {
         best_chi = chi;
-        best_u = fresh[i];
         best = evals[i];
       }
     }
@@ -255,7 +254,7 @@ bool solveAlongOne(SimulationResiduals& cost, const Model& model, const Evaluato
   result.iterations = r.evaluations;
   result.message = r.message;
   if (!r.ok) return false;
-  u[0] = best_u;
+  u[0] = r.x;  // the best point seen, whose evaluation is `best`
   cost.prime(u, best);
   return true;
 }

@@ -51,44 +51,6 @@ TEST(ThresholdSearch, BisectionNeedsLogarithmicallyManyRuns) {
   EXPECT_EQ(static_cast<int>(r.runs.size()), calls);
 }
 
-// A smooth indicator (tilt rising linearly through the 15-degree criterion at `crossing`).
-std::function<ThresholdProbe(double)> rampThrough(double crossing, std::vector<double>* rates) {
-  return [=](double rate) {
-    rates->push_back(rate);
-    ThresholdProbe p;
-    p.indicator = 15.0 + 4.0 * (rate - crossing);
-    p.above = p.indicator >= 15.0;
-    return p;
-  };
-}
-
-TEST(ThresholdSearch, GridRunsFixedRatesAndInterpolationRecoversALinearCrossing) {
-  ThresholdSearchOptions o;
-  o.low = 8.0;
-  o.high = 12.0;
-  o.grid_ratio = 1.02;
-  for (double crossing : {9.137, 9.15, 10.9, 3.3, 30.0}) {
-    std::vector<double> rates;
-    const ThresholdResult r = findThreshold(rampThrough(crossing, &rates), o);
-    ASSERT_TRUE(r.found) << r.message;
-    for (double rate : rates) {  // every rate on the grid 8 x 1.02^k
-      const double k = std::log(rate / 8.0) / std::log(1.02);
-      EXPECT_NEAR(k, std::round(k), 1e-9) << rate;
-    }
-    EXPECT_NEAR(r.high / r.low, 1.02, 1e-12);  // neighbouring grid rates
-    EXPECT_LE(r.low, crossing);
-    EXPECT_GE(r.high, crossing);
-    // linear indicator: the interpolated crossing is exact, the midpoint is not
-    EXPECT_NEAR(interpolatedThreshold(r, 15.0), crossing, 1e-9);
-  }
-  // without a straddling pair (a step indicator) it falls back to the midpoint
-  const ThresholdResult step = findThreshold(stepAt(9.5), o);
-  EXPECT_DOUBLE_EQ(interpolatedThreshold(step, 45.0), step.threshold);
-  EXPECT_TRUE(std::isnan(interpolatedThreshold(ThresholdResult{}, 15.0)));
-  o.grid_ratio = 0.5;
-  EXPECT_THROW(validate(o), std::invalid_argument);
-}
-
 TEST(ThresholdSearch, ReportsWhyNoThresholdWasFound) {
   ThresholdSearchOptions o;
   o.max_rate = 500.0;

@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <limits>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -121,7 +120,6 @@ Search search(const SimulationConfig& c, const Options& o, const std::string& pr
   };
   Search s;
   s.bisection = flagella::findThreshold(probe, o.search, progress);
-  s.refined.threshold = std::numeric_limits<double>::quiet_NaN();
   if (o.refine > 0 && s.bisection.found)
     s.refined = flagella::windowThreshold(probe, s.bisection.threshold, kRefineGridRatio, o.refine,
                                           c.buckling_tilt_deg, kRefineMoves, progress);

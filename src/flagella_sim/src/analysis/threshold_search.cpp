@@ -32,8 +32,6 @@ void validate(const ThresholdSearchOptions& o) {
           ">= high (" + number(o.high) + ")");
   require(std::isfinite(o.tolerance) && o.tolerance > 0.0, "tolerance", o.tolerance, "> 0");
   require(o.max_runs >= 2, "max_runs", o.max_runs, ">= 2");
-  require(o.grid_ratio == 0.0 || (std::isfinite(o.grid_ratio) && o.grid_ratio > 1.0), "grid_ratio",
-          o.grid_ratio, "0 (no grid) or > 1");
 }
 
 ThresholdResult findThreshold(const std::function<ThresholdProbe(double)>& probe,
@@ -41,16 +39,8 @@ ThresholdResult findThreshold(const std::function<ThresholdProbe(double)>& probe
                               const std::function<void(const ThresholdProbe&)>& progress) {
   validate(o);
   ThresholdResult r;
-  const bool gridded = o.grid_ratio > 1.0;
-  // A rate on the grid low * grid_ratio^k (the rate itself without a grid).
-  auto snap = [&](double rate) {
-    if (!gridded) return rate;
-    return o.low *
-           std::pow(o.grid_ratio, std::round(std::log(rate / o.low) / std::log(o.grid_ratio)));
-  };
-  // Runs `rate` (snapped); false if the search must stop (failed run or out of runs).
+  // Runs `rate`; false if the search must stop (failed run or out of runs).
   auto run = [&](double rate, bool& above) {
-    rate = snap(rate);
     if (static_cast<int>(r.runs.size()) >= o.max_runs) {
       r.message = "no threshold within " + std::to_string(o.max_runs) + " runs";
       return false;
@@ -93,13 +83,8 @@ ThresholdResult findThreshold(const std::function<ThresholdProbe(double)>& probe
       if (!run(high, above)) return r;
     }
   }
-  low = snap(low);
-  high = snap(high);
-  auto open = [&] {
-    return gridded ? high / low > o.grid_ratio * (1.0 + 1e-9) : high - low > o.tolerance;
-  };
-  while (open()) {  // bisection (geometric on the grid)
-    const double mid = gridded ? snap(std::sqrt(low * high)) : 0.5 * (low + high);
+  while (high - low > o.tolerance) {  // bisection
+    const double mid = 0.5 * (low + high);
     if (!run(mid, above)) return r;
     (above ? high : low) = mid;
   }
@@ -108,21 +93,6 @@ ThresholdResult findThreshold(const std::function<ThresholdProbe(double)>& probe
   r.high = high;
   r.threshold = 0.5 * (low + high);
   return r;
-}
-
-double interpolatedThreshold(const ThresholdResult& result, double level) {
-  if (!result.found) return std::numeric_limits<double>::quiet_NaN();
-  const ThresholdProbe* below = nullptr;
-  const ThresholdProbe* above = nullptr;
-  for (const ThresholdProbe& p : result.runs) {
-    if (p.failed) continue;
-    if (p.rate == result.low && !p.above) below = &p;
-    if (p.rate == result.high && p.above) above = &p;
-  }
-  if (!below || !above || !(below->indicator < level && above->indicator >= level))
-    return result.threshold;
-  const double w = (level - below->indicator) / (above->indicator - below->indicator);
-  return below->rate + w * (above->rate - below->rate);
 }
 
 double smoothedCrossing(const std::vector<ThresholdProbe>& probes, double level) {
@@ -168,7 +138,6 @@ WindowThreshold windowThreshold(const ProbeBatch& probes, double center, double 
   require(half_width >= 2, "half_width", half_width, ">= 2");
   require(max_moves >= 0, "max_moves", max_moves, ">= 0");
   WindowThreshold w;
-  w.threshold = std::numeric_limits<double>::quiet_NaN();
   std::map<long, ThresholdProbe> by_k;  // every run made, by grid index
   long low = std::lround(std::log(center) / std::log(grid_ratio)) - half_width;
   for (int move = 0;; ++move) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -25,10 +26,6 @@ struct ThresholdSearchOptions {
   double max_rate = 2000.0;  ///< the upper guess is doubled up to this before giving up
   double tolerance = 1.0;    ///< stop when the bracket is narrower than this [rpm]
   int max_runs = 40;
-  /// > 1: every rate tried lies on the grid low * grid_ratio^k and the search stops at two
-  /// neighbouring grid rates (tolerance unused). Models that differ slightly are then run at the
-  /// same rates, so an interpolated threshold moves continuously with them (fits need that).
-  double grid_ratio = 0.0;
 };
 
 struct ThresholdResult {
@@ -51,12 +48,6 @@ ThresholdResult findThreshold(const std::function<ThresholdProbe(double)>& probe
                               const ThresholdSearchOptions& options,
                               const std::function<void(const ThresholdProbe&)>& progress = {});
 
-/// The rate inside a found bracket where the indicator crosses `level`, by linear interpolation
-/// between the bracket's two runs: a threshold that moves continuously with the model (what a
-/// fit needs), not in steps of the bisection. The midpoint when the two runs do not straddle
-/// `level` (an indicator that is not monotone near the threshold); NaN if `result` is not found.
-double interpolatedThreshold(const ThresholdResult& result, double level);
-
 /// The lowest rate where the indicator, averaged over three neighbouring rates and interpolated
 /// linearly in log rate between them, reaches `level` from below. `probes` are runs at
 /// consecutive rates of a geometric grid, in rate order. The average takes out most of a wobble
@@ -72,8 +63,8 @@ double smoothedCrossing(const std::vector<ThresholdProbe>& probes, double level)
 /// window that holds the crossing gives the same threshold, and it moves continuously with the
 /// model. The runs stop at the first failed one.
 struct WindowThreshold {
-  double threshold = 0.0;            ///< [rpm], NaN if not found
-  std::vector<ThresholdProbe> runs;  ///< in the order made
+  double threshold = std::numeric_limits<double>::quiet_NaN();  ///< [rpm], NaN if not found
+  std::vector<ThresholdProbe> runs;                             ///< in the order made
   std::string message;               ///< why there is no threshold
 };
 WindowThreshold windowThreshold(const std::function<ThresholdProbe(double)>& probe, double center,
