@@ -26,21 +26,36 @@ void useOneThread() {
 }  // namespace
 
 bool DenseLuSolver::factorize(const MatX& A, double min_rcond) {
+  if (!checkInput(A)) return false;
+  lu_ = A;  // reuses the storage when the size is unchanged
+  return factorizeStored(min_rcond);
+}
+
+bool DenseLuSolver::factorize(MatX&& A, double min_rcond) {
+  if (!checkInput(A)) return false;
+  lu_.swap(A);  // A keeps the previous factorisation's storage for its owner to reuse
+  return factorizeStored(min_rcond);
+}
+
+bool DenseLuSolver::checkInput(const MatX& A) {
   useOneThread();
   if (A.rows() != A.cols()) throw std::invalid_argument("DenseLuSolver: matrix is not square");
   rcond_ = 0.0;
   if (!A.allFinite()) return false;
-  const int n = static_cast<int>(A.rows());
-  lu_ = A;
+  anorm_ = A.cwiseAbs().colwise().sum().maxCoeff();  // 1-norm, for the condition estimate
+  return true;
+}
+
+bool DenseLuSolver::factorizeStored(double min_rcond) {
+  const int n = static_cast<int>(lu_.rows());
   pivots_.assign(n, 0);
-  const double anorm = A.cwiseAbs().colwise().sum().maxCoeff();  // 1-norm
   int info = 0;
   dgetrf_(&n, &n, lu_.data(), &n, pivots_.data(), &info);
   if (info != 0) return false;
-  std::vector<double> work(4 * n);
-  std::vector<int> iwork(n);
+  work_.resize(4 * n);
+  iwork_.resize(n);
   const char norm = '1';
-  dgecon_(&norm, &n, lu_.data(), &n, &anorm, &rcond_, work.data(), iwork.data(), &info);
+  dgecon_(&norm, &n, lu_.data(), &n, &anorm_, &rcond_, work_.data(), iwork_.data(), &info);
   return info == 0 && rcond_ > min_rcond;
 }
 

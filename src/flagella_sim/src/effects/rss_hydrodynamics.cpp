@@ -3,8 +3,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "flagella_sim/hydro/rss_solver.h"
-
 namespace flagella {
 
 RssHydrodynamics::RssHydrodynamics(double filament_radius, bool implicit)
@@ -96,12 +94,14 @@ void RssHydrodynamics::beginStep(const StepStart& start) {
   rss::Polyline polyline;
   for (int node : nodes_) polyline.push_back(nodePosition(start.state.q, node));
   try {
-    const rss::RssSolver solver(polyline, segments_, currentEps(), start.viscosity);
-    if (implicit_)
-      drag_ = solver.dragMatrix();  // K = 8 pi mu D Ablk^{-1} (docs/model.md 4.4 B)
+    if (solver_)
+      solver_->update(polyline, segments_, currentEps(), start.viscosity);  // storage reused
     else
-      explicit_force_ = solver.nodalForces(gather(start.state.qdot));  // docs/model.md 4.4 A
+      solver_.emplace(polyline, segments_, currentEps(), start.viscosity);
+    if (!implicit_)
+      explicit_force_ = solver_->nodalForces(gather(start.state.qdot));  // docs/model.md 4.4 A
   } catch (const std::invalid_argument& e) {
+    solver_.reset();
     throw std::runtime_error(std::string("effects.rss at t = ") + std::to_string(start.state.time) +
                              " s: " + e.what());
   }
@@ -109,14 +109,18 @@ void RssHydrodynamics::beginStep(const StepStart& start) {
 
 void RssHydrodynamics::addForce(const EffectContext& ctx, VecX& force,
                                 JacobianSink* /*jacobian*/) const {
+  if (implicit_ && !solver_) throw std::logic_error("effects.rss: force asked before beginStep");
   // docs/model.md 4.4: option B, F^hyd = -K (x - x(t_k))/dt; option A, F^hyd fixed over the step
-  const VecX f =
-      implicit_ ? VecX(-drag_ * (gather(ctx.q) - gather(ctx.q_start)) / ctx.dt) : explicit_force_;
+  const VecX f = implicit_ ? solver_->nodalForces((gather(ctx.q) - gather(ctx.q_start)) / ctx.dt)
+                           : explicit_force_;
   for (size_t i = 0; i < dofs_.size(); ++i) force(dofs_[i]) += f(i);
 }
 
 void RssHydrodynamics::addDenseJacobian(const EffectContext& ctx, DenseJacobianSink& sink) const {
-  sink.addDense(dofs_, drag_, -1.0 / ctx.dt);  // dF/dx = -K/dt (docs/model.md 4.4 B)
+  if (!solver_) throw std::logic_error("effects.rss: Jacobian asked before beginStep");
+  // dF/dx = -K/dt = -(1/dt) diag(8 pi mu l_p) Ablk^{-1} (docs/model.md 4.4 B)
+  sink.addScaledInverse(dofs_, solver_->matrix(), solver_->factorisation(),
+                        solver_->dragRowWeights(), -1.0 / ctx.dt);
 }
 
 }  // namespace flagella

@@ -45,9 +45,15 @@ void validatePolyline(const Polyline& nodes, double eps) {
 }
 
 MatX assembleRssMatrix(const Polyline& nodes, const Segments& segments, double eps) {
+  MatX ablk;
+  assembleRssMatrix(nodes, segments, eps, ablk);
+  return ablk;
+}
+
+void assembleRssMatrix(const Polyline& nodes, const Segments& segments, double eps, MatX& ablk) {
   validatePolyline(nodes, segments, eps);
   const int m = static_cast<int>(nodes.size());
-  MatX ablk = MatX::Zero(3 * m, 3 * m);
+  ablk.setZero(3 * m, 3 * m);
   for (const auto& [a, b] : segments) {
     const double dl = (nodes[b] - nodes[a]).norm();
     for (int p = 0; p < m; ++p) {
@@ -56,7 +62,6 @@ MatX assembleRssMatrix(const Polyline& nodes, const Segments& segments, double e
       ablk.block<3, 3>(3 * p, 3 * b) += dl * blocks.a2;
     }
   }
-  return ablk;
 }
 
 MatX assembleRssMatrix(const Polyline& nodes, double eps) {

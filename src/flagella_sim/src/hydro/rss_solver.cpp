@@ -23,11 +23,17 @@ double checkedViscosity(double mu) {
 RssSolver::RssSolver(const Polyline& nodes, double eps, double viscosity)
     : RssSolver(nodes, chainSegments(static_cast<int>(nodes.size())), eps, viscosity) {}
 
-RssSolver::RssSolver(const Polyline& nodes, const Segments& segments, double eps, double viscosity)
-    : eps_(eps),
-      mu_(checkedViscosity(viscosity)),
-      ablk_(assembleRssMatrix(nodes, segments, eps)),
-      lengths_(rss::voronoiLengths(nodes, segments)) {
+RssSolver::RssSolver(const Polyline& nodes, const Segments& segments, double eps,
+                     double viscosity) {
+  update(nodes, segments, eps, viscosity);
+}
+
+void RssSolver::update(const Polyline& nodes, const Segments& segments, double eps,
+                       double viscosity) {
+  mu_ = checkedViscosity(viscosity);
+  eps_ = eps;
+  assembleRssMatrix(nodes, segments, eps, ablk_);
+  lengths_ = rss::voronoiLengths(nodes, segments);
   if (!lu_.factorize(ablk_))
     throw std::invalid_argument("the RSS matrix is singular (reciprocal condition " +
                                 std::to_string(lu_.rcond()) +
@@ -52,10 +58,15 @@ VecX RssSolver::nodalForces(const VecX& velocities) const {
   return f;
 }
 
+VecX RssSolver::dragRowWeights() const {
+  VecX w(3 * nodeCount());
+  for (int p = 0; p < nodeCount(); ++p)
+    w.segment<3>(3 * p).setConstant(8.0 * units::pi * mu_ * lengths_[p]);  // docs/model.md 4.4
+  return w;
+}
+
 MatX RssSolver::dragMatrix() const {
-  MatX k = 8.0 * units::pi * mu_ * lu_.inverse();  // docs/model.md 4.4 option B
-  for (int p = 0; p < nodeCount(); ++p) k.middleRows<3>(3 * p) *= lengths_[p];
-  return k;
+  return dragRowWeights().asDiagonal() * lu_.inverse();  // docs/model.md 4.4 option B
 }
 
 }  // namespace flagella::rss

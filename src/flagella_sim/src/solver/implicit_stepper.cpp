@@ -26,20 +26,6 @@ class NegatingSink : public JacobianSink {
   SparseAssembler& assembler_;
 };
 
-// Subtracts an effect's dense dF/dq block from the dense Newton Jacobian (docs/model.md 1.10).
-class DenseNegatingSink : public DenseJacobianSink {
- public:
-  explicit DenseNegatingSink(MatX& jacobian) : jacobian_(jacobian) {}
-  void addDense(const std::vector<int>& dofs, const MatX& block, double scale) override {
-    const int n = static_cast<int>(dofs.size());
-    for (int c = 0; c < n; ++c)
-      for (int r = 0; r < n; ++r) jacobian_(dofs[r], dofs[c]) -= scale * block(r, c);
-  }
-
- private:
-  MatX& jacobian_;
-};
-
 // A dense Jacobian whose reciprocal condition estimate is below this is treated as singular.
 constexpr double kMinDenseReciprocalCondition = 1e-15;
 
@@ -156,23 +142,15 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
 }
 
 void ImplicitStepper::buildDenseJacobian(const EffectContext& ctx) {
-  dense_jacobian_ = MatX(assembler_.matrix());
-  DenseNegatingSink sink(dense_jacobian_);
+  dense_system_.begin(assembler_.matrix(), net_.fixed_dof);
   for (const EffectPtr& e : effects_)
-    if (e->hasDenseJacobian()) e->addDenseJacobian(ctx, sink);
-  if (!any_fixed_) return;
-  for (int i = 0; i < net_.ndof(); ++i) {  // Dirichlet DOFs, as in pinFixedDofs
-    if (!net_.fixed_dof[i]) continue;
-    dense_jacobian_.row(i).setZero();
-    dense_jacobian_.col(i).setZero();
-    dense_jacobian_(i, i) = 1.0;
-  }
+    if (e->hasDenseJacobian()) e->addDenseJacobian(ctx, dense_system_);
 }
 
 bool ImplicitStepper::factorizeJacobian() {
   ++factorizations_;
   if (dense_) {
-    return dense_lu_.factorize(dense_jacobian_, kMinDenseReciprocalCondition);
+    return dense_system_.factorize(kMinDenseReciprocalCondition);
   }
   if (!analyzed_ || assembler_.patternChanged()) {
     lu_.analyze(assembler_.matrix());
@@ -183,7 +161,7 @@ bool ImplicitStepper::factorizeJacobian() {
 }
 
 VecX ImplicitStepper::solveJacobian(const VecX& rhs) {
-  return dense_ ? dense_lu_.solve(rhs) : lu_.solve(rhs);
+  return dense_ ? dense_system_.solve(rhs) : lu_.solve(rhs);
 }
 
 ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, double motor_offset,
@@ -202,6 +180,7 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
     state.frames = std::move(frames);
   };
   double residual_history[3] = {0.0, 0.0, 0.0};  // of the last three iterates
+  double previous_residual = 0.0;                // of the last iterate
   // The first pass always builds the Jacobian; later passes first check convergence with the
   // cheap residual-only evaluation and build the Jacobian only if another update is needed.
   for (int iter = 0; iter <= options_.max_iterations; ++iter) {
@@ -223,8 +202,14 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
         attempt.residual > kStagnationResidualFactor * options_.residual_tolerance &&
         attempt.residual > kStagnationRatio * residual_history[(iter + 1) % 3])
       return attempt;
-    if (iter > 0) evaluate(state, q, dt, frames, true);
-    if (!factorizeJacobian()) return attempt;
+    // A dense Jacobian is kept for a chord step while Newton contracts fast (NewtonOptions).
+    const bool reuse = iter > 0 && dense_ && !damped &&
+                       attempt.residual < options_.dense_jacobian_reuse * previous_residual;
+    previous_residual = attempt.residual;
+    if (!reuse) {
+      if (iter > 0) evaluate(state, q, dt, frames, true);
+      if (!factorizeJacobian()) return attempt;
+    }
     VecX dq = solveJacobian(residual_);
     if (!dq.allFinite()) return attempt;
     if (damped) {

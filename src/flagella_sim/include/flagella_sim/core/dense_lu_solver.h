@@ -14,6 +14,9 @@ class DenseLuSolver {
   /// Factors A (copied); false if A is singular, not finite, or its reciprocal condition number
   /// estimate is below `min_rcond`.
   bool factorize(const MatX& A, double min_rcond = 1e-15);
+  /// The same, factoring A in place (no copy); A is left holding unspecified values (the
+  /// storage of the previous factorisation, to reuse).
+  bool factorize(MatX&& A, double min_rcond = 1e-15);
   /// Solves A x = b with the last factorisation.
   VecX solve(const VecX& b) const;
   /// A^{-1} from the last factorisation.
@@ -23,9 +26,17 @@ class DenseLuSolver {
   int size() const { return static_cast<int>(lu_.rows()); }
 
  private:
+  /// Checks A (square, finite) and records its 1-norm; false if not finite.
+  bool checkInput(const MatX& A);
+  /// dgetrf and dgecon on lu_.
+  bool factorizeStored(double min_rcond);
+
   MatX lu_;
   std::vector<int> pivots_;
   double rcond_ = 0.0;
+  double anorm_ = 0.0;
+  std::vector<double> work_;
+  std::vector<int> iwork_;
 };
 
 }  // namespace flagella

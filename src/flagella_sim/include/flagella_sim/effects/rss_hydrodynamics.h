@@ -1,15 +1,17 @@
 // Nonlocal hydrodynamics of the flagellum by regularized Stokeslet segments (docs/model.md 4):
 // the RSS matrix of the tail nodes is built and factored once per step at x(t_k); the force is
-// F^hyd = -K (x - x(t_k))/dt with K = 8 pi mu D Ablk^{-1} and the dense Jacobian block -K/dt
+// F^hyd = -K (x - x(t_k))/dt with K = 8 pi mu D Ablk^{-1} (one LU solve per evaluation) and the
+// dense Jacobian block -K/dt, handed to the stepper as Ablk and D so that K is never formed
 // (option B, implicit, the default), or F^hyd = -K xdot(t_k) held fixed over the step with no
 // Jacobian (option A, explicit) (docs/model.md 4.4).
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "flagella_sim/effects/effect.h"
 #include "flagella_sim/effects/effect_descriptor.h"
-#include "flagella_sim/hydro/rss_matrix.h"
+#include "flagella_sim/hydro/rss_solver.h"
 
 namespace flagella {
 
@@ -44,7 +46,7 @@ class RssHydrodynamics : public Effect {
   std::vector<int> nodes_;
   std::vector<int> dofs_;  ///< 3 position DOFs per RSS node
   rss::Segments segments_;
-  MatX drag_;            ///< K at x(t_k) (option B)
+  std::optional<rss::RssSolver> solver_;  ///< Ablk at x(t_k), factored (option B)
   VecX explicit_force_;  ///< -K xdot(t_k) (option A)
 };
 

@@ -26,6 +26,8 @@ void validatePolyline(const Polyline& nodes, double eps);
 /// segment j = (a, b) (docs/model.md 4.3). Not symmetric in general (collocation).
 MatX assembleRssMatrix(const Polyline& nodes, const Segments& segments, double eps);
 MatX assembleRssMatrix(const Polyline& nodes, double eps);
+/// The same into `ablk` (resized; its storage is reused when the size is unchanged).
+void assembleRssMatrix(const Polyline& nodes, const Segments& segments, double eps, MatX& ablk);
 
 /// Voronoi lengths l_p: half of each adjacent segment (docs/model.md 4.3).
 VecX voronoiLengths(const Polyline& nodes, const Segments& segments);

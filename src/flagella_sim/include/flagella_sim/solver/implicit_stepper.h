@@ -6,7 +6,8 @@
 // to NewtonOptions::max_subdivision_depth; if that fails too, SolverFailure is thrown and the
 // state is left at the last accepted step.
 // Linear solve: sparse KLU, or a dense partial-pivot LU of the whole Jacobian when an effect has a
-// dense Jacobian block (Effect::hasDenseJacobian, the RSS hydrodynamics of docs/model.md 4.4).
+// dense Jacobian block (Effect::hasDenseJacobian, the RSS hydrodynamics of docs/model.md 4.4),
+// right-preconditioned so that the RSS drag is never inverted (DenseNewtonSystem).
 #pragma once
 
 #include <memory>
@@ -14,12 +15,12 @@
 #include <vector>
 
 #include "flagella_sim/actuation/motor.h"
-#include "flagella_sim/core/dense_lu_solver.h"
 #include "flagella_sim/core/sparse_assembler.h"
 #include "flagella_sim/effects/effect.h"
 #include "flagella_sim/elastic/bend_twist_energy.h"
 #include "flagella_sim/rod/rod_network.h"
 #include "flagella_sim/rod/rod_state.h"
+#include "flagella_sim/solver/dense_newton_system.h"
 #include "flagella_sim/solver/newton_options.h"
 #include "flagella_sim/solver/sparse_lu_solver.h"
 
@@ -96,7 +97,7 @@ class ImplicitStepper {
   double scaledResidual(const VecX& f) const;
   double stepNorm(const VecX& dq) const;
   void pinFixedDofs(SparseMatrix& J) const;
-  /// Copies the sparse Jacobian into dense_jacobian_ and subtracts the effects' dense blocks.
+  /// Starts the dense Newton system from the sparse Jacobian and adds the effects' dense blocks.
   void buildDenseJacobian(const EffectContext& ctx);
   /// Factors the Jacobian built by evaluate(); false if it is singular.
   bool factorizeJacobian();
@@ -118,8 +119,7 @@ class ImplicitStepper {
   SparseLuSolver lu_;
   bool analyzed_ = false;
   bool dense_ = false;  ///< some effect has a dense Jacobian block
-  MatX dense_jacobian_;
-  DenseLuSolver dense_lu_;
+  DenseNewtonSystem dense_system_;
   int factorizations_ = 0;
   int analyses_ = 0;
 };

@@ -1,0 +1,66 @@
+// The Newton system J dq = r of a step whose Jacobian has dense blocks (docs/model.md 4.4 option
+// B): J = S - sum_b s_b P_b^T B_b P_b - s P^T diag(w) A^{-1} P, with S the sparse part (Dirichlet
+// DOFs pinned) and P selecting DOFs. The block given through its matrix A (the RSS drag, A = Ablk)
+// is never inverted: the system is right-preconditioned by A on its DOFs (docs/model.md 4.4),
+//   (J C) z = r,  dq = C z,  C = identity except A / alpha on those DOFs,
+// and J C = S C - (s / alpha) P^T diag(w) P needs only the sparse-times-dense product S P^T A.
+// Falls back to forming A^{-1} when a Dirichlet DOF is among the block's DOFs or a second such
+// block is added.
+#pragma once
+
+#include <vector>
+
+#include "flagella_sim/core/dense_lu_solver.h"
+#include "flagella_sim/effects/effect.h"
+
+namespace flagella {
+
+class DenseNewtonSystem : public DenseJacobianSink {
+ public:
+  /// Starts a Jacobian from its sparse part (fixed DOFs already pinned in it) and the mask of
+  /// Dirichlet DOFs; `sparse` must stay unchanged until factorize() returns.
+  void begin(const SparseMatrix& sparse, const std::vector<bool>& fixed);
+  /// J -= scale * block at rows and columns `dofs` (dF/dq += scale * block).
+  void addDense(const std::vector<int>& dofs, const MatX& block, double scale) override;
+  /// J -= scale * diag(row_weights) * matrix^{-1}; `matrix` must stay unchanged until the next
+  /// begin() (solve() uses it).
+  void addScaledInverse(const std::vector<int>& dofs, const MatX& matrix, const DenseLuSolver& lu,
+                        const VecX& row_weights, double scale) override;
+  /// Completes J (pins the Dirichlet DOFs) and factors it in place with partial-pivot LU, once
+  /// per begin(); false if it is singular (reciprocal condition estimate below `min_rcond`).
+  bool factorize(double min_rcond);
+  /// The Newton update dq with J dq = rhs (from the last factorize()).
+  VecX solve(const VecX& rhs) const;
+  /// True when the last factorize() used the preconditioned form (no inverse formed).
+  bool preconditioned() const { return preconditioned_; }
+
+ private:
+  struct InverseBlock {
+    std::vector<int> dofs;
+    const MatX* matrix = nullptr;
+    const DenseLuSolver* lu = nullptr;
+    VecX row_weights;
+    double scale = 0.0;
+  };
+  bool canPrecondition() const;
+  void subtractExplicitInverse(const InverseBlock& block);
+  void precondition();
+  /// Adds the inverse block (preconditioned or explicit) and pins the Dirichlet DOFs.
+  void complete();
+
+  using RowMajorMatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+  const SparseMatrix* sparse_ = nullptr;
+  std::vector<bool> fixed_;
+  MatX jacobian_;
+  bool has_dense_blocks_ = false;
+  bool has_inverse_ = false;
+  InverseBlock inverse_;
+  bool preconditioned_ = false;
+  bool completed_ = false;
+  double alpha_ = 1.0;  ///< mean |diagonal| of the preconditioning matrix
+  DenseLuSolver lu_;
+  RowMajorMatX a_rows_, columns_;  ///< work space of precondition(), kept to avoid reallocation
+};
+
+}  // namespace flagella

@@ -1,0 +1,118 @@
+#include "flagella_sim/solver/dense_newton_system.h"
+
+#include <stdexcept>
+
+extern "C" void daxpy_(const int* n, const double* alpha, const double* x, const int* incx,
+                       double* y, const int* incy);
+
+namespace flagella {
+
+void DenseNewtonSystem::begin(const SparseMatrix& sparse, const std::vector<bool>& fixed) {
+  sparse_ = &sparse;
+  fixed_ = fixed;
+  jacobian_.setZero(sparse.rows(), sparse.cols());  // reuses the last LU's storage when it fits
+  for (int col = 0; col < sparse.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(sparse, col); it; ++it)
+      jacobian_(it.row(), col) = it.value();
+  has_dense_blocks_ = false;
+  has_inverse_ = false;
+  preconditioned_ = false;
+  completed_ = false;
+}
+
+void DenseNewtonSystem::addDense(const std::vector<int>& dofs, const MatX& block, double scale) {
+  const int n = static_cast<int>(dofs.size());
+  for (int c = 0; c < n; ++c)
+    for (int r = 0; r < n; ++r) jacobian_(dofs[r], dofs[c]) -= scale * block(r, c);
+  has_dense_blocks_ = true;
+}
+
+void DenseNewtonSystem::addScaledInverse(const std::vector<int>& dofs, const MatX& matrix,
+                                         const DenseLuSolver& lu, const VecX& row_weights,
+                                         double scale) {
+  InverseBlock block{dofs, &matrix, &lu, row_weights, scale};
+  if (has_inverse_) {  // only one block can precondition the system
+    subtractExplicitInverse(block);
+    return;
+  }
+  inverse_ = std::move(block);
+  has_inverse_ = true;
+}
+
+void DenseNewtonSystem::subtractExplicitInverse(const InverseBlock& block) {
+  addDense(block.dofs, block.row_weights.asDiagonal() * block.lu->inverse(), block.scale);
+}
+
+bool DenseNewtonSystem::canPrecondition() const {
+  for (int dof : inverse_.dofs)
+    if (fixed_[dof]) return false;  // a pinned DOF would mix with free ones through A
+  return inverse_.matrix->diagonal().cwiseAbs().mean() > 0.0;
+}
+
+void DenseNewtonSystem::precondition() {
+  // docs/model.md 4.4: J C = J0 C - (s / alpha) P^T diag(w) P, J0 C = J0 + J0 P^T (A / alpha - I) P
+  const MatX& a = *inverse_.matrix;
+  const std::vector<int>& dofs = inverse_.dofs;
+  const int m = static_cast<int>(dofs.size());
+  alpha_ = a.diagonal().cwiseAbs().mean();
+  // J0 P^T A, row by row: each nonzero J0(i, d_k) adds J0(i, d_k) A(k, :) to row i (BLAS axpy on
+  // contiguous rows, vectorised for the CPU at run time)
+  a_rows_ = a;
+  RowMajorMatX& columns = columns_;
+  columns.setZero(jacobian_.rows(), m);
+  const int one = 1;
+  for (int k = 0; k < m; ++k) {
+    auto add = [&](int row, double value) {
+      daxpy_(&m, &value, a_rows_.row(k).data(), &one, columns.row(row).data(), &one);
+    };
+    if (has_dense_blocks_) {
+      for (int row = 0; row < jacobian_.rows(); ++row)
+        if (jacobian_(row, dofs[k]) != 0.0) add(row, jacobian_(row, dofs[k]));
+    } else {
+      for (SparseMatrix::InnerIterator it(*sparse_, dofs[k]); it; ++it)
+        add(static_cast<int>(it.row()), it.value());
+    }
+  }
+  for (int k = 0; k < m; ++k) {
+    jacobian_.col(dofs[k]) = columns.col(k) / alpha_;
+    jacobian_(dofs[k], dofs[k]) -= inverse_.scale * inverse_.row_weights(k) / alpha_;
+  }
+  preconditioned_ = true;
+}
+
+bool DenseNewtonSystem::factorize(double min_rcond) {
+  if (completed_) throw std::logic_error("DenseNewtonSystem: one factorize() per begin()");
+  complete();
+  // J is not needed after its LU: factored in place, its storage comes back for the next begin()
+  return lu_.factorize(std::move(jacobian_), min_rcond);
+}
+
+void DenseNewtonSystem::complete() {
+  if (has_inverse_) {
+    if (canPrecondition())
+      precondition();
+    else
+      subtractExplicitInverse(inverse_);
+  }
+  for (int i = 0; i < static_cast<int>(fixed_.size());
+       ++i) {  // Dirichlet DOFs (docs/model.md 1.10)
+    if (!fixed_[i]) continue;
+    jacobian_.row(i).setZero();
+    jacobian_.col(i).setZero();
+    jacobian_(i, i) = 1.0;
+  }
+  completed_ = true;
+}
+
+VecX DenseNewtonSystem::solve(const VecX& rhs) const {
+  VecX dq = lu_.solve(rhs);
+  if (!preconditioned_) return dq;
+  const std::vector<int>& dofs = inverse_.dofs;
+  VecX z(dofs.size());
+  for (size_t k = 0; k < dofs.size(); ++k) z(k) = dq(dofs[k]);
+  const VecX mapped = *inverse_.matrix * z / alpha_;  // dq = C z
+  for (size_t k = 0; k < dofs.size(); ++k) dq(dofs[k]) = mapped(k);
+  return dq;
+}
+
+}  // namespace flagella
