@@ -296,6 +296,29 @@ TEST(SimSession, SliderCommandsAreGatedAndHeld) {
   EXPECT_EQ(h.motor_rejected, 0);
 }
 
+TEST(SimSession, SliderCommandsMoveAConfiguredSliderIntoItsStop) {
+  // helical robot with a slider (travel +-8 mm) and the session's wider command range +-20 mm:
+  // a command past the travel is accepted by the gate and ends against the hard stop (reported).
+  SimulationConfig config = loadSimulationConfig(
+      shippedConfig("helical_robot.yaml"),
+      {"motor.omega_rpm=0", "slider.travel_min=-0.008", "slider.travel_max=0.008"});
+  SessionOptions options;
+  SimSession session(config, options);
+  EXPECT_EQ(session.health().slider_position, 0.0);
+  EXPECT_EQ(session.commandSlider(0.015), CommandVerdict::Accepted);
+  const double v_max = config.slider.maxSpeed();
+  stepOrFail(session, 100);  // 1 s at 2.5 mm/s: on its way
+  SessionHealth h = session.health();
+  EXPECT_GT(h.slider_position, 0.5 * v_max);
+  EXPECT_LE(h.slider_position, 1.0 * v_max);
+  EXPECT_FALSE(h.slider_at_stop);
+  stepOrFail(session, 300);  // 4 s in all: 8 mm reached after 3.3 s
+  h = session.health();
+  EXPECT_EQ(h.slider_position, 0.008);
+  EXPECT_TRUE(h.slider_at_stop);
+  EXPECT_EQ(session.simulation().slider()->state().stop_hits, 1);
+}
+
 // --------------------------------------------------------------------------------------------
 // Reset
 // --------------------------------------------------------------------------------------------

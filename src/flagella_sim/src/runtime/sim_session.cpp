@@ -83,6 +83,8 @@ CommandVerdict SimSession::commandSlider(double position) {
 
 bool SimSession::step() {
   if (halted_) return false;
+  Slider* slider = sim_->slider();
+  if (slider && slider_gate_.hasCommand()) slider->setTarget(slider_gate_.output(time()));
   try {
     sim_->step();
   } catch (const SolverFailure& first) {
@@ -133,7 +135,12 @@ SessionHealth SimSession::health() const {
   h.failsafe_active = motor_gate.failsafeTripped(time());
   h.halted = halted_;
   h.motor_applied = sim_->lastMotorCommand();
-  h.slider_position = slider_gate_.output(time());
+  if (const Slider* slider = sim_->slider()) {
+    h.slider_position = slider->state().position;
+    h.slider_at_stop = slider->state().at_stop;
+  } else {
+    h.slider_position = slider_gate_.output(time());
+  }
   h.last_rejection = motor_gate.lastRejection().empty() ? slider_gate_.lastRejection()
                                                         : motor_gate.lastRejection();
   h.last_solver_failure = last_failure_;

@@ -47,12 +47,40 @@ Simulation::Simulation(const SimulationConfig& config)
       motor_(makeMotor(config.motor)),
       state_(stepper_.initialState()) {
   motor_.setSpeedLaws(stepper_.motorSpeedLaws());
+  if (config.slider.enabled) {
+    const Effect* couple = stepper_.findEffect("com_offset");
+    if (!couple) throw ConfigError("slider: needs effects.com_offset (the couple it shifts)");
+    neutral_offset_ = couple->parameters().get("offset");
+    slider_.emplace(config.slider);
+    applySliderOffset();
+  }
   recordSample();
+}
+
+void Simulation::applySliderOffset() {
+  Effect* couple = stepper_.findEffect("com_offset");
+  const double l = slider_->comOffset(neutral_offset_, couple->parameters().get("head_mass"));
+  couple->parameters().set("offset", l, "effects.com_offset");  // docs/model.md 5
 }
 
 StepReport Simulation::step() {
   motor_.beginStep(state_.time, config_.dt);
-  const StepReport r = stepper_.step(state_, config_.dt, motor_);
+  if (slider_) {  // l(t_{k+1}) for the step; put back if the step fails
+    const SliderState before = slider_->state();
+    slider_->advance(config_.dt);
+    applySliderOffset();
+    try {
+      return finishStep(stepper_.step(state_, config_.dt, motor_));
+    } catch (...) {
+      slider_->restore(before);
+      applySliderOffset();
+      throw;
+    }
+  }
+  return finishStep(stepper_.step(state_, config_.dt, motor_));
+}
+
+StepReport Simulation::finishStep(const StepReport& r) {
   newton_iterations_ += r.newton_iterations;
   subdivided_steps_ += r.substeps > 1;
   damped_steps_ += r.damped_retries;
@@ -185,6 +213,10 @@ const ParameterSpec& Simulation::parameterSpec(const std::string& name) const {
 }
 
 void Simulation::setParameter(const std::string& name, double value) {
+  if (slider_ && name == "effects.com_offset.offset")
+    throw ConfigError(
+        "effects.com_offset.offset follows the slider (l = l_0 + (m_s/m_h) x_s, l_0 the "
+        "configured offset): command the slider instead");
   std::string local;
   ParameterSet& owner = parameterOwner(name, local);
   owner.set(local, value, name.substr(0, name.size() - local.size() - 1));

@@ -159,6 +159,26 @@ void parseMotor(FieldReader r, SimulationConfig& c) {
   r.rejectUnknown();
 }
 
+void parseSlider(FieldReader r, SimulationConfig& c) {
+  SliderSpec& s = c.slider;
+  s.enabled = true;
+  s.mass = r.number("mass", s.mass, 1e-6, 10.0, "kg");
+  s.lead = r.number("lead", s.lead, 1e-6, 0.1, "m");
+  s.max_screw_rate = units::rpmToRadPerSec(
+      r.number("max_screw_rpm", units::radPerSecToRpm(s.max_screw_rate), 1e-2, 1e5, "rpm"));
+  s.max_screw_accel = r.number("max_screw_accel", s.max_screw_accel, 1e-3, 1e6, "rad/s^2");
+  s.travel_min = r.number("travel_min", s.travel_min, -1.0, 0.0, "m");
+  s.travel_max = r.number("travel_max", s.travel_max, 0.0, 1.0, "m");
+  s.initial_position = r.number("initial_position", s.initial_position, -1.0, 1.0, "m");
+  r.rejectUnknown();
+  s.validate();
+  bool has_couple = false;
+  for (const EffectSpec& e : c.effects) has_couple = has_couple || e.name == "com_offset";
+  if (!has_couple)
+    throw ConfigError(r.path() +
+                      " needs effects.com_offset: the slider shifts that couple's offset l");
+}
+
 void parseSimulation(FieldReader r, SimulationConfig& c) {
   c.dt = r.number("dt", 0.01, 1e-7, 1.0, "s");
   c.duration = r.number("duration", 10.0, 0.0, 1e6, "s");
@@ -210,6 +230,7 @@ SimulationConfig parseSimulationConfig(const YAML::Node& root, const std::string
   parseMedium(top.child("medium"), c);
   parseEffects(top.child("effects"), c);
   parseMotor(top.child("motor"), c);
+  if (top.has("slider")) parseSlider(top.child("slider"), c);
   parseSimulation(top.child("simulation"), c);
   parseSolver(top.child("solver"), c);
   top.rejectUnknown();

@@ -44,7 +44,10 @@ struct SessionHealth {
   bool failsafe_active = false;
   bool halted = false;
   double motor_applied = 0.0;  ///< omega_T used in the last step [rad/s]
+  /// The slider's position [m] when the config has one (`slider:`), else the last accepted
+  /// command (nothing moves).
   double slider_position = 0.0;
+  bool slider_at_stop = false;  ///< resting against a hard stop of its travel
   std::string last_rejection;
   std::string last_solver_failure;
 };
@@ -56,7 +59,8 @@ class SimSession {
 
   /// Offers a motor rate [rad/s] at the current simulated time.
   CommandVerdict commandMotor(double omega);
-  /// Offers a slider position [m] (stored and reported; no physics uses it yet).
+  /// Offers a slider position [m]; with a `slider:` section in the config the slider drives
+  /// there (actuation/slider.h), else it is only stored and reported.
   CommandVerdict commandSlider(double position);
 
   /// Advances one dt. Failure strategy: a step that fails even after subdivision is retried

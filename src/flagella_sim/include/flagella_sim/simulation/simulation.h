@@ -4,10 +4,12 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "flagella_sim/actuation/motor.h"
+#include "flagella_sim/actuation/slider.h"
 #include "flagella_sim/outputs/trajectory.h"
 #include "flagella_sim/simulation/simulation_config.h"
 #include "flagella_sim/solver/implicit_stepper.h"
@@ -25,6 +27,11 @@ class Simulation {
   /// The motor: commands in, natural-twist rate out (actuation/motor.h).
   Motor& motor() { return motor_; }
   const Motor& motor() const { return motor_; }
+  /// The mass-transformer's slider (config section `slider:`), or nullptr. Each step moves it
+  /// toward its target and sets effects.com_offset.offset = l_0 + (m_s / m_h) x_s, l_0 being the
+  /// configured offset (docs/model.md 5).
+  Slider* slider() { return slider_ ? &*slider_ : nullptr; }
+  const Slider* slider() const { return slider_ ? &*slider_ : nullptr; }
 
   /// One step of config().dt. Throws SolverFailure (state unchanged) if Newton cannot recover.
   StepReport step();
@@ -63,10 +70,16 @@ class Simulation {
 
  private:
   ParameterSet& parameterOwner(const std::string& name, std::string& local) const;
+  /// Sets the couple's offset from the slider's position.
+  void applySliderOffset();
+  /// Adds a stepper report to the run's counters.
+  StepReport finishStep(const StepReport& r);
 
   SimulationConfig config_;
   ImplicitStepper stepper_;
   Motor motor_;
+  std::optional<Slider> slider_;
+  double neutral_offset_ = 0.0;  ///< l_0 [m]: the configured effects.com_offset.offset
   RodState state_;
   std::vector<TrajectorySample> trajectory_;
   bool record_nodes_ = false;

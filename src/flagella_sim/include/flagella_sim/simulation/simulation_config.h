@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "flagella_sim/actuation/slider.h"
 #include "flagella_sim/effects/effect_descriptor.h"
 #include "flagella_sim/effects/medium.h"
 #include "flagella_sim/effects/rft_coefficients.h"
@@ -33,6 +34,7 @@ struct SimulationConfig {
   Medium medium;
   std::vector<EffectSpec> effects;
   MotorSpec motor;
+  SliderSpec slider;  ///< section `slider:` (mass-transformer, docs/model.md 5); needs com_offset
   double dt = 0.01;
   double duration = 10.0;
   double output_interval = 0.1;
