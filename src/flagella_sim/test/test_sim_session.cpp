@@ -319,6 +319,31 @@ TEST(SimSession, SliderCommandsMoveAConfiguredSliderIntoItsStop) {
   EXPECT_EQ(session.simulation().slider()->state().stop_hits, 1);
 }
 
+TEST(SimSession, AccelerometerGivesTheHeadTiltTheCoupleProduces) {
+  // helical robot, motor off, COM 2 mm behind the COV: the couple pitches the head; the
+  // noise-free accelerometer's elevation follows the true axis within its 3.9 mg resolution
+  // and the slow head motion, once the start from rest is over.
+  SimulationConfig config = loadSimulationConfig(
+      shippedConfig("helical_robot.yaml"), {"motor.omega_rpm=0", "effects.com_offset.offset=2e-3"});
+  SessionOptions options;
+  options.accelerometer.noise_std = 0.0;
+  SimSession session(config, options);
+  double largest = 0.0;
+  for (int k = 0; k < 200; ++k) {
+    stepOrFail(session, 1);
+    const AccelerometerReading& r = session.measureAccelerometer();
+    const Vec3 axis = session.simulation().sample().head_axis;
+    const double truth = std::asin(axis.y() / axis.norm());
+    if (k < 10) continue;  // the start from rest accelerates the head at up to 0.15 g
+    EXPECT_NEAR(headElevationFromAcceleration(r.acceleration), truth, 0.5 * M_PI / 180.0)
+        << "t = " << session.time() << ", |a| = " << r.acceleration.norm();
+    largest = std::max(largest, std::abs(truth));
+  }
+  EXPECT_GT(largest, 10.0 * M_PI / 180.0);  // it did pitch
+  session.reset();
+  EXPECT_EQ(session.measureAccelerometer().time, 0.0);
+}
+
 // --------------------------------------------------------------------------------------------
 // Reset
 // --------------------------------------------------------------------------------------------

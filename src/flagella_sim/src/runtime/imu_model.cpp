@@ -26,6 +26,11 @@ void ImuOptions::validate() const {
   }
 }
 
+Vec3 specificForceInHead(const HeadMotion& truth, const Vec3& gravity) {
+  // f = a - g: an accelerometer at rest reads +|g| along the vertical.
+  return truth.orientation.toRotationMatrix().transpose() * (truth.acceleration - gravity);
+}
+
 ImuModel::ImuModel(ImuOptions options, Vec3 gravity)
     : options_(std::move(options)), gravity_(std::move(gravity)), rng_(options_.seed) {
   options_.validate();
@@ -47,9 +52,8 @@ ImuSample ImuModel::measure(const HeadMotion& truth) {
   s.orientation = (truth.orientation * error).normalized();
   s.angular_velocity = world_from_head.transpose() * truth.angular_velocity + options_.gyro_bias +
                        noise(options_.gyro_noise_std);
-  // Specific force f = a - g: an accelerometer at rest reads +|g| along the vertical.
-  s.linear_acceleration = world_from_head.transpose() * (truth.acceleration - gravity_) +
-                          options_.accel_bias + noise(options_.accel_noise_std);
+  s.linear_acceleration =
+      specificForceInHead(truth, gravity_) + options_.accel_bias + noise(options_.accel_noise_std);
   s.orientation_variance = options_.orientation_noise_std * options_.orientation_noise_std;
   s.angular_velocity_variance = options_.gyro_noise_std * options_.gyro_noise_std;
   s.linear_acceleration_variance = options_.accel_noise_std * options_.accel_noise_std;

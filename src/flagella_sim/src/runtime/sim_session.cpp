@@ -42,6 +42,7 @@ void SessionOptions::validate() const {
   requireInRange("slider_min", slider_min, -kMaxSliderTravel, kMaxSliderTravel, "m");
   requireInRange("slider_max", slider_max, slider_min, kMaxSliderTravel, "m");
   imu.validate();
+  accelerometer.validate();
   camera.validate();
 }
 
@@ -50,6 +51,7 @@ SimSession::SimSession(SimulationConfig config, SessionOptions options)
       options_((options.validate(), std::move(options))),
       slider_gate_(sliderGateOptions(options_)),
       imu_(options_.imu, config_.medium.gravity),
+      accelerometer_(options_.accelerometer),
       camera_(options_.camera),
       output_from_sim_(outputFromSimulationFrame(config_.medium.up)) {
   start();
@@ -68,6 +70,7 @@ void SimSession::start() {
 
 void SimSession::reset() {
   slider_gate_.clear();
+  accelerometer_ = Accelerometer(options_.accelerometer);  // its clock starts again at t = 0
   steps_ = solver_failures_ = 0;
   last_failure_.clear();
   start();
@@ -114,6 +117,11 @@ ImuSample SimSession::measureImu() {
   ImuSample sample = imu_.measure(head_motion_.motion());
   sample.orientation = (output_from_sim_ * sample.orientation).normalized();
   return sample;
+}
+
+const AccelerometerReading& SimSession::measureAccelerometer() {
+  accelerometer_.update(time(), specificForceInHead(head_motion_.motion(), config_.medium.gravity));
+  return accelerometer_.reading();
 }
 
 CameraFix SimSession::measureCamera() {

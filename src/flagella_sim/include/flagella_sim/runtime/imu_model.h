@@ -43,6 +43,10 @@ struct ImuSample {
   double linear_acceleration_variance = 0.0;
 };
 
+/// The specific force a - g of the head's motion in the head frame [m/s^2] (reads +|g| upward at
+/// rest).
+Vec3 specificForceInHead(const HeadMotion& truth, const Vec3& gravity);
+
 class ImuModel {
  public:
   ImuModel(ImuOptions options, Vec3 gravity);

@@ -10,6 +10,7 @@
 #include "flagella_sim/actuation/command_gate.h"
 #include "flagella_sim/actuation/motor_command.h"
 #include "flagella_sim/core/units.h"
+#include "flagella_sim/runtime/accelerometer.h"
 #include "flagella_sim/runtime/camera_model.h"
 #include "flagella_sim/runtime/imu_model.h"
 #include "flagella_sim/runtime/rod_snapshot.h"
@@ -24,6 +25,7 @@ struct SessionOptions {
   std::string initial_motor = "config";
   double slider_min = -0.02, slider_max = 0.02;  ///< internal-mass travel [m]
   ImuOptions imu;
+  AccelerometerOptions accelerometer;
   CameraOptions camera;
 
   /// Throws ConfigError naming the field and its allowed range.
@@ -77,6 +79,9 @@ class SimSession {
   RodSnapshot snapshot() const;
   /// One IMU measurement of the current head motion (advances the noise generator).
   ImuSample measureImu();
+  /// The head accelerometer's output now (a new reading at its output data rate, held in
+  /// between; head frame, runtime/accelerometer.h).
+  const AccelerometerReading& measureAccelerometer();
   /// One camera fix of the head centre in the output frame (advances the noise generator).
   CameraFix measureCamera();
   /// False when the camera is off (rate 0) or inside its dropout window.
@@ -95,6 +100,7 @@ class SimSession {
   std::unique_ptr<Simulation> sim_;  ///< its motor takes the commands (Motor::takeCommands)
   CommandGate slider_gate_;
   ImuModel imu_;
+  Accelerometer accelerometer_;
   CameraModel camera_;
   HeadMotionTracker head_motion_;
   Eigen::Quaterniond output_from_sim_;
