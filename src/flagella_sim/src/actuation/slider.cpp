@@ -18,12 +18,14 @@ double SliderSpec::maxSpeed() const { return lead * max_screw_rate / (2.0 * unit
 double SliderSpec::maxAcceleration() const { return lead * max_screw_accel / (2.0 * units::pi); }
 
 void SliderSpec::validate() const {
-  requireInRange("slider.mass", mass, 1e-6, 10.0, "kg");
-  requireInRange("slider.lead", lead, 1e-6, 0.1, "m");
-  requireInRange("slider.max_screw_rate", max_screw_rate, 1e-3, 1e4, "rad/s");
-  requireInRange("slider.max_screw_accel", max_screw_accel, 1e-3, 1e6, "rad/s^2");
-  requireInRange("slider.travel_min", travel_min, -1.0, 0.0, "m");
-  requireInRange("slider.travel_max", travel_max, 0.0, 1.0, "m");
+  using namespace slider_limits;
+  requireInRange("slider.mass", mass, kMinMass, kMaxMass, "kg");
+  requireInRange("slider.lead", lead, kMinLead, kMaxLead, "m");
+  requireInRange("slider.max_screw_rate", max_screw_rate, kMinScrewRate, kMaxScrewRate, "rad/s");
+  requireInRange("slider.max_screw_accel", max_screw_accel, kMinScrewAccel, kMaxScrewAccel,
+                 "rad/s^2");
+  requireInRange("slider.travel_min", travel_min, -kMaxTravel, 0.0, "m");
+  requireInRange("slider.travel_max", travel_max, 0.0, kMaxTravel, "m");
   if (!(travel_max > travel_min))
     throw ConfigError("slider.travel_max must be > slider.travel_min");
   requireInRange("slider.initial_position", initial_position, travel_min, travel_max, "m");
@@ -78,8 +80,7 @@ void Slider::subStep(double h) {
   const bool was_at_stop = s.at_stop;
   s.position = std::clamp(s.position, spec_.travel_min, spec_.travel_max);
   s.at_stop = s.position == spec_.travel_min || s.position == spec_.travel_max;
-  if (s.at_stop && s.velocity * (s.position - 0.5 * (spec_.travel_min + spec_.travel_max)) > 0.0)
-    s.velocity = 0.0;
+  if (s.at_stop) s.velocity = 0.0;  // arrived (already at rest) or stopped by the clamp
   if (s.at_stop && !was_at_stop) ++s.stop_hits;
 }
 

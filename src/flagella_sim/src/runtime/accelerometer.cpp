@@ -10,7 +10,6 @@
 namespace flagella {
 
 namespace {
-constexpr double kStandardGravity = 9.80665;  // [m/s^2], the unit g of the data sheet
 constexpr double kMaxRate = 3200.0;           // [Hz], the ADXL345's fastest output data rate
 constexpr double kMaxBias = 10.0;             // [m/s^2]
 }  // namespace
@@ -40,8 +39,8 @@ bool Accelerometer::update(double time, const Vec3& specific_force) {
   if (!sampled_) first_time_ = time;
   index_ = due;
   reading_.time = first_time_ + index_ * period;
-  const int full_scale =
-      static_cast<int>(std::floor(options_.range_g * kStandardGravity / options_.resolution));
+  const int full_scale = static_cast<int>(
+      std::floor(options_.range_g * units::kStandardGravity / options_.resolution));
   reading_.saturated = false;
   for (int a = 0; a < 3; ++a) {
     const double value = specific_force[a] + options_.bias[a] +

@@ -48,9 +48,10 @@ Simulation::Simulation(const SimulationConfig& config)
       state_(stepper_.initialState()) {
   motor_.setSpeedLaws(stepper_.motorSpeedLaws());
   if (config.slider.enabled) {
-    const Effect* couple = stepper_.findEffect("com_offset");
-    if (!couple) throw ConfigError("slider: needs effects.com_offset (the couple it shifts)");
-    neutral_offset_ = couple->parameters().get("offset");
+    slider_couple_ = stepper_.findEffect("com_offset");
+    if (!slider_couple_)
+      throw ConfigError("slider: needs effects.com_offset (the couple it shifts)");
+    neutral_offset_ = slider_couple_->parameters().get("offset");
     slider_.emplace(config.slider);
     applySliderOffset();
   }
@@ -58,29 +59,29 @@ Simulation::Simulation(const SimulationConfig& config)
 }
 
 void Simulation::applySliderOffset() {
-  Effect* couple = stepper_.findEffect("com_offset");
-  const double l = slider_->comOffset(neutral_offset_, couple->parameters().get("head_mass"));
-  couple->parameters().set("offset", l, "effects.com_offset");  // docs/model.md 5
+  ParameterSet& couple = slider_couple_->parameters();
+  const double l = slider_->comOffset(neutral_offset_, couple.get("head_mass"));
+  couple.set("offset", l, "effects.com_offset");  // docs/model.md 5
 }
 
 StepReport Simulation::step() {
   motor_.beginStep(state_.time, config_.dt);
-  if (slider_) {  // l(t_{k+1}) for the step; put back if the step fails
-    const SliderState before = slider_->state();
+  std::optional<SliderState> slider_before;  // l(t_{k+1}) for the step; put back if it fails
+  if (slider_) {
+    slider_before = slider_->state();
     slider_->advance(config_.dt);
     applySliderOffset();
-    try {
-      return finishStep(stepper_.step(state_, config_.dt, motor_));
-    } catch (...) {
-      slider_->restore(before);
-      applySliderOffset();
-      throw;
-    }
   }
-  return finishStep(stepper_.step(state_, config_.dt, motor_));
-}
-
-StepReport Simulation::finishStep(const StepReport& r) {
+  StepReport r;
+  try {
+    r = stepper_.step(state_, config_.dt, motor_);
+  } catch (...) {
+    if (slider_) {
+      slider_->restore(*slider_before);
+      applySliderOffset();
+    }
+    throw;
+  }
   newton_iterations_ += r.newton_iterations;
   subdivided_steps_ += r.substeps > 1;
   damped_steps_ += r.damped_retries;

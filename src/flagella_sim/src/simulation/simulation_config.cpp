@@ -160,16 +160,20 @@ void parseMotor(FieldReader r, SimulationConfig& c) {
 }
 
 void parseSlider(FieldReader r, SimulationConfig& c) {
+  using namespace slider_limits;
   SliderSpec& s = c.slider;
   s.enabled = true;
-  s.mass = r.number("mass", s.mass, 1e-6, 10.0, "kg");
-  s.lead = r.number("lead", s.lead, 1e-6, 0.1, "m");
+  s.mass = r.number("mass", s.mass, kMinMass, kMaxMass, "kg");
+  s.lead = r.number("lead", s.lead, kMinLead, kMaxLead, "m");
   s.max_screw_rate = units::rpmToRadPerSec(
-      r.number("max_screw_rpm", units::radPerSecToRpm(s.max_screw_rate), 1e-2, 1e5, "rpm"));
-  s.max_screw_accel = r.number("max_screw_accel", s.max_screw_accel, 1e-3, 1e6, "rad/s^2");
-  s.travel_min = r.number("travel_min", s.travel_min, -1.0, 0.0, "m");
-  s.travel_max = r.number("travel_max", s.travel_max, 0.0, 1.0, "m");
-  s.initial_position = r.number("initial_position", s.initial_position, -1.0, 1.0, "m");
+      r.number("max_screw_rpm", units::radPerSecToRpm(s.max_screw_rate),
+               units::radPerSecToRpm(kMinScrewRate), units::radPerSecToRpm(kMaxScrewRate), "rpm"));
+  s.max_screw_accel =
+      r.number("max_screw_accel", s.max_screw_accel, kMinScrewAccel, kMaxScrewAccel, "rad/s^2");
+  s.travel_min = r.number("travel_min", s.travel_min, -kMaxTravel, 0.0, "m");
+  s.travel_max = r.number("travel_max", s.travel_max, 0.0, kMaxTravel, "m");
+  s.initial_position =
+      r.number("initial_position", s.initial_position, -kMaxTravel, kMaxTravel, "m");
   r.rejectUnknown();
   s.validate();
   bool has_couple = false;

@@ -9,11 +9,8 @@ namespace flagella {
 
 void DenseNewtonSystem::begin(const SparseMatrix& sparse, const std::vector<bool>& fixed) {
   sparse_ = &sparse;
-  fixed_ = fixed;
-  jacobian_.setZero(sparse.rows(), sparse.cols());  // reuses the last LU's storage when it fits
-  for (int col = 0; col < sparse.outerSize(); ++col)
-    for (SparseMatrix::InnerIterator it(sparse, col); it; ++it)
-      jacobian_(it.row(), col) = it.value();
+  fixed_ = &fixed;
+  jacobian_ = sparse;  // reuses the last LU's storage when the size is unchanged
   has_dense_blocks_ = false;
   has_inverse_ = false;
   preconditioned_ = false;
@@ -45,7 +42,7 @@ void DenseNewtonSystem::subtractExplicitInverse(const InverseBlock& block) {
 
 bool DenseNewtonSystem::canPrecondition() const {
   for (int dof : inverse_.dofs)
-    if (fixed_[dof]) return false;  // a pinned DOF would mix with free ones through A
+    if ((*fixed_)[dof]) return false;  // a pinned DOF would mix with free ones through A
   return inverse_.matrix->diagonal().cwiseAbs().mean() > 0.0;
 }
 
@@ -94,9 +91,9 @@ void DenseNewtonSystem::complete() {
     else
       subtractExplicitInverse(inverse_);
   }
-  for (int i = 0; i < static_cast<int>(fixed_.size());
-       ++i) {  // Dirichlet DOFs (docs/model.md 1.10)
-    if (!fixed_[i]) continue;
+  // Dirichlet DOFs (docs/model.md 1.10)
+  for (int i = 0; i < static_cast<int>(fixed_->size()); ++i) {
+    if (!(*fixed_)[i]) continue;
     jacobian_.row(i).setZero();
     jacobian_.col(i).setZero();
     jacobian_(i, i) = 1.0;

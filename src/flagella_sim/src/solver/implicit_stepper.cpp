@@ -180,7 +180,6 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
     state.frames = std::move(frames);
   };
   double residual_history[3] = {0.0, 0.0, 0.0};  // of the last three iterates
-  double previous_residual = 0.0;                // of the last iterate
   // The first pass always builds the Jacobian; later passes first check convergence with the
   // cheap residual-only evaluation and build the Jacobian only if another update is needed.
   for (int iter = 0; iter <= options_.max_iterations; ++iter) {
@@ -203,9 +202,9 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
         attempt.residual > kStagnationRatio * residual_history[(iter + 1) % 3])
       return attempt;
     // A dense Jacobian is kept for a chord step while Newton contracts fast (NewtonOptions).
+    const double previous_residual = residual_history[(iter + 2) % 3];  // of iterate iter - 1
     const bool reuse = iter > 0 && dense_ && !damped &&
                        attempt.residual < options_.dense_jacobian_reuse * previous_residual;
-    previous_residual = attempt.residual;
     if (!reuse) {
       if (iter > 0) evaluate(state, q, dt, frames, true);
       if (!factorizeJacobian()) return attempt;

@@ -13,6 +13,16 @@
 
 namespace flagella {
 
+/// Allowed values of a SliderSpec (SliderSpec::validate and the config parser).
+namespace slider_limits {
+inline constexpr double kMinMass = 1e-6, kMaxMass = 10.0;  // [kg]
+inline constexpr double kMinLead = 1e-6, kMaxLead = 0.1;   // [m]
+inline constexpr double kMinScrewRate = units::rpmToRadPerSec(1e-2),
+                        kMaxScrewRate = 1e4;                          // [rad/s]
+inline constexpr double kMinScrewAccel = 1e-3, kMaxScrewAccel = 1e6;  // [rad/s^2]
+inline constexpr double kMaxTravel = 1.0;  // [m] either side of the neutral position
+}  // namespace slider_limits
+
 /// Config section `slider:` (docs/model.md 5; every value [ASSUMED]: the source gives none).
 struct SliderSpec {
   bool enabled = false;  ///< the section is present

@@ -1,4 +1,4 @@
-// Unit conversions shared by all packages: rpm <-> rad/s, degrees <-> radians, m <-> mm, hours.
+// Unit conversions shared by all packages: rpm <-> rad/s, degrees <-> radians, m <-> mm, hours, g.
 #pragma once
 
 namespace flagella::units {
@@ -9,6 +9,7 @@ inline constexpr double kRadPerSecPerRpm = 2.0 * pi / 60.0;
 inline constexpr double kRpmPerRadPerSec = 60.0 / (2.0 * pi);
 inline constexpr double kSecondsPerHour = 3600.0;
 inline constexpr double kMetresPerMm = 1e-3;
+inline constexpr double kStandardGravity = 9.80665;  // [m/s^2], the g of sensor data sheets
 
 constexpr double rpmToRadPerSec(double rpm) { return rpm * kRadPerSecPerRpm; }
 constexpr double radPerSecToRpm(double rad_per_sec) { return rad_per_sec * kRpmPerRadPerSec; }

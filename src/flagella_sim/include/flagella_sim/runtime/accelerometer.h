@@ -9,13 +9,16 @@
 #include <random>
 
 #include "flagella_sim/core/types.h"
+#include "flagella_sim/core/units.h"
 
 namespace flagella {
 
 struct AccelerometerOptions {
   double range_g = 2.0;                  ///< full scale [g]: 2, 4, 8 or 16
-  double resolution = 3.9e-3 * 9.80665;  ///< one count [m/s^2] (full-resolution mode, 3.9 mg)
-  double noise_std = 4.3e-3 * 9.80665;   ///< per axis [m/s^2] (about 1.1 counts rms at 100 Hz)
+  double resolution =
+      3.9e-3 * units::kStandardGravity;  ///< one count [m/s^2] (full-resolution mode, 3.9 mg)
+  double noise_std =
+      4.3e-3 * units::kStandardGravity;  ///< per axis [m/s^2] (about 1.1 counts rms at 100 Hz)
   Vec3 bias = Vec3::Zero();              ///< zero-g offset per axis [m/s^2]
   double output_rate = 100.0;            ///< output data rate [Hz]
   unsigned seed = 1;

@@ -72,13 +72,12 @@ class Simulation {
   ParameterSet& parameterOwner(const std::string& name, std::string& local) const;
   /// Sets the couple's offset from the slider's position.
   void applySliderOffset();
-  /// Adds a stepper report to the run's counters.
-  StepReport finishStep(const StepReport& r);
 
   SimulationConfig config_;
   ImplicitStepper stepper_;
   Motor motor_;
   std::optional<Slider> slider_;
+  Effect* slider_couple_ = nullptr;  ///< the com_offset effect the slider drives
   double neutral_offset_ = 0.0;  ///< l_0 [m]: the configured effects.com_offset.offset
   RodState state_;
   std::vector<TrajectorySample> trajectory_;

@@ -18,7 +18,7 @@ namespace flagella {
 class DenseNewtonSystem : public DenseJacobianSink {
  public:
   /// Starts a Jacobian from its sparse part (fixed DOFs already pinned in it) and the mask of
-  /// Dirichlet DOFs; `sparse` must stay unchanged until factorize() returns.
+  /// Dirichlet DOFs; both must stay unchanged until solve() is done with them.
   void begin(const SparseMatrix& sparse, const std::vector<bool>& fixed);
   /// J -= scale * block at rows and columns `dofs` (dF/dq += scale * block).
   void addDense(const std::vector<int>& dofs, const MatX& block, double scale) override;
@@ -51,7 +51,7 @@ class DenseNewtonSystem : public DenseJacobianSink {
   using RowMajorMatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
   const SparseMatrix* sparse_ = nullptr;
-  std::vector<bool> fixed_;
+  const std::vector<bool>* fixed_ = nullptr;
   MatX jacobian_;
   bool has_dense_blocks_ = false;
   bool has_inverse_ = false;
