@@ -3,34 +3,19 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <fstream>
-#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "flagella_control/validation.h"
+#include "flagella_control/yaml_text.h"
 
 namespace flagella::control {
 
 namespace {
-
-std::string numberText(double x) {
-  // Shortest decimal that reads back to exactly the same double: readable files, exact round
-  // trips.
-  if (!std::isfinite(x)) return std::isnan(x) ? ".nan" : (x > 0 ? ".inf" : "-.inf");
-  char buffer[64];
-  for (int precision = 6; precision <= 17; ++precision) {
-    std::snprintf(buffer, sizeof buffer, "%.*g", precision, x);
-    if (std::strtod(buffer, nullptr) == x) break;
-  }
-  return buffer;
-}
 
 const char* const kContext = "calibration";
 
@@ -52,38 +37,7 @@ void validateSign(const SignResponse& r, const std::string& name) {
   requireFinite(kContext, name + ".body_velocity[1]", r.body_velocity[1]);
 }
 
-// "double-quoted" YAML string.
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    const unsigned char u = static_cast<unsigned char>(c);
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (c == '\n') {
-      out += "\\n";
-    } else if (c == '\t') {
-      out += "\\t";
-    } else if (u < 0x20 || u == 0x7f) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof buffer, "\\x%02x", u);
-      out += buffer;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
-// Fixed-width "key: value   # comment" lines.
-std::string line(int indent, const std::string& key_value, const std::string& comment) {
-  std::string s = std::string(indent, ' ') + key_value;
-  if (!comment.empty()) {
-    if (s.size() < 44) s.resize(44, ' ');
-    s += "  # " + comment;
-  }
-  return s + "\n";
-}
+const auto line = commentedLine;
 
 void writeSign(std::ostream& out, const std::string& name, const SignResponse& r,
                const std::string& description) {
@@ -100,63 +54,6 @@ void writeSign(std::ostream& out, const std::string& name, const SignResponse& r
                   numberText(r.body_velocity[1]) + "]",
               "[along the head axis, to its left] [m/s]");
 }
-
-// Strict reader of one YAML map: every key read once, unknown keys rejected.
-class MapReader {
- public:
-  MapReader(const YAML::Node& node, std::string path, std::string file)
-      : node_(node), path_(std::move(path)), file_(std::move(file)) {
-    if (!node_.IsMap()) fail(path_, "must be a map");
-  }
-
-  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
-    throw std::runtime_error(file_ + ": calibration field '" + field + "' " + what);
-  }
-
-  std::string field(const std::string& key) const { return path_ + "." + key; }
-
-  YAML::Node get(const std::string& key) {
-    used_.insert(key);
-    const YAML::Node n = node_[key];
-    if (!n) fail(field(key), "is missing");
-    return n;
-  }
-
-  double number(const std::string& key) { return parseNumber(get(key), field(key)); }
-
-  double parseNumber(const YAML::Node& n, const std::string& name) const {
-    if (!n.IsScalar()) fail(name, "must be a number");
-    const std::string& text = n.Scalar();
-    errno = 0;
-    char* end = nullptr;
-    const double value = std::strtod(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE ||
-        !std::isfinite(value))
-      fail(name, "must be a finite number, got '" + text + "'");
-    return value;
-  }
-
-  std::string string(const std::string& key) {
-    const YAML::Node n = get(key);
-    if (!n.IsScalar()) fail(field(key), "must be a string");
-    return n.Scalar();
-  }
-
-  MapReader child(const std::string& key) { return MapReader(get(key), field(key), file_); }
-
-  void rejectUnknown() const {
-    for (const auto& entry : node_) {
-      const std::string key = entry.first.as<std::string>();
-      if (!used_.count(key)) fail(field(key), "is not a known field");
-    }
-  }
-
- private:
-  YAML::Node node_;
-  std::string path_;
-  std::string file_;
-  std::set<std::string> used_;
-};
 
 SignResponse readSign(MapReader& parent, const std::string& key) {
   MapReader m = parent.child(key);
@@ -191,25 +88,8 @@ void BinaryCalibration::validate() const {
 }
 
 BinaryCalibration loadCalibration(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw std::runtime_error(path + ": cannot open calibration file");
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(path + ": YAML syntax error: " + e.what());
-  }
-  if (!root.IsMap()) throw std::runtime_error(path + ": expected a map with key 'calibration'");
-  for (const auto& entry : root) {
-    const std::string key = entry.first.as<std::string>();
-    if (key != "calibration")
-      throw std::runtime_error(path + ": calibration field '" + key +
-                               "' is not a known field (expected only 'calibration')");
-  }
-  if (!root["calibration"])
-    throw std::runtime_error(path + ": calibration field 'calibration' is missing");
-
-  MapReader m(root["calibration"], "calibration", path);
+  const YAML::Node node = loadSingleKeyFile(path, "calibration", "calibration");
+  MapReader m(node, "calibration", path, "calibration");
   BinaryCalibration c;
   c.omega = m.number("omega");
   c.switch_period = m.number("switch_period");
@@ -249,13 +129,9 @@ void saveCalibration(const BinaryCalibration& c, const std::string& path) {
               "its direction from the heading at the period start [rad]");
   out << line(2, "heading_drift_per_period: " + numberText(c.heading_drift_per_period),
               "net heading change per period [rad]");
-  out << line(2, "source: " + quoted(c.source), "how it was obtained");
+  out << line(2, "source: " + quotedText(c.source), "how it was obtained");
 
-  std::ofstream file(path);
-  if (!file) throw std::runtime_error(path + ": cannot open for writing");
-  file << out.str();
-  file.close();
-  if (!file) throw std::runtime_error(path + ": write failed");
+  writeTextFile(path, out.str());
 }
 
 }  // namespace flagella::control

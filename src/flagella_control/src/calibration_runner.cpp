@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "flagella_control/heading.h"
+#include "flagella_control/session_driver.h"
 #include "flagella_control/validation.h"
 #include "flagella_sim/outputs/fits.h"
 #include "flagella_sim/runtime/sim_session.h"
@@ -29,55 +30,17 @@ long wholeSteps(const std::string& field, double duration, double dt) {
   return static_cast<long>(n);
 }
 
-/// One fresh session driven at a commanded motor rate, with the config's soft start.
-class Driver {
- public:
-  Driver(const flagella::SimulationConfig& config, double omega, const std::string& run)
-      : session_(config, sessionOptions(omega)), ramp_(config.motor.ramp_time), run_(run) {}
-
-  /// One dt at `signed_omega` (scaled by the soft start during the first ramp_time).
-  void step(double signed_omega) {
-    const double t_end = session_.time() + session_.dt();
-    const double scale = ramp_ > 0.0 ? std::min(1.0, t_end / ramp_) : 1.0;
-    const flagella::CommandVerdict verdict = session_.commandMotor(signed_omega * scale);
-    if (verdict != flagella::CommandVerdict::Accepted)
-      throw std::runtime_error("calibration " + run_ +
-                               ": motor command rejected: " + session_.health().last_rejection);
-    const bool ok = session_.step();
-    const flagella::SessionHealth h = session_.health();
-    if (!ok || h.solver_failures > 0)
-      throw std::runtime_error("calibration " + run_ + ": solver failure at t = " +
-                               numberString(session_.time()) + " s (" + h.message + ")");
-  }
-
-  /// Head position (x, y) and heading in the output frame.
-  void measure(Eigen::Vector2d& xy, double& psi) const {
-    const flagella::RodSnapshot s = session_.snapshot();
-    const Eigen::Quaterniond& q = s.head_orientation;
-    const double quaternion[4] = {q.x(), q.y(), q.z(), q.w()};
-    xy = s.head_position.head<2>();
-    psi = headingFromQuaternion(quaternion);
-    if (!xy.allFinite() || !std::isfinite(psi))
-      throw std::runtime_error("calibration " + run_ + ": non-finite head state at t = " +
-                               numberString(session_.time()) + " s");
-  }
-
-  double dt() const { return session_.dt(); }
-  double time() const { return session_.time(); }
-
- private:
-  static flagella::SessionOptions sessionOptions(double omega) {
-    flagella::SessionOptions o;
-    o.initial_motor = "stopped";
-    o.command_timeout = 0.0;  // no failsafe: every step is commanded anyway
-    o.max_motor_speed = std::max(o.max_motor_speed, 1.01 * omega);
-    return o;
-  }
-
-  flagella::SimSession session_;
-  double ramp_;
-  std::string run_;
-};
+/// Head position (x, y) and heading in the output frame.
+void measure(const SessionDriver& driver, Eigen::Vector2d& xy, double& psi) {
+  const flagella::RodSnapshot s = driver.session().snapshot();
+  const Eigen::Quaterniond& q = s.head_orientation;
+  const double quaternion[4] = {q.x(), q.y(), q.z(), q.w()};
+  xy = s.head_position.head<2>();
+  psi = headingFromQuaternion(quaternion);
+  if (!xy.allFinite() || !std::isfinite(psi))
+    throw std::runtime_error("calibration " + driver.run() + ": non-finite head state at t = " +
+                             numberString(driver.time()) + " s");
+}
 
 Eigen::Vector2d rotate(const Eigen::Vector2d& v, double angle) {
   const double c = std::cos(angle), s = std::sin(angle);
@@ -123,7 +86,7 @@ SignResponse measureSignResponse(const flagella::SimulationConfig& config, doubl
                                  const CalibrationOptions& options) {
   options.validate();
   const std::string run = std::string("constant ") + (signed_omega > 0 ? "+" : "-") + "omega";
-  Driver driver(config, std::abs(signed_omega), run);
+  SessionDriver driver(config, std::abs(signed_omega), run);
   const double dt = driver.dt();
   const long settle_steps = std::lround(options.settle_time / dt);
   const long sample_steps = wholeSteps("sample_interval", options.sample_interval, dt);
@@ -138,7 +101,7 @@ SignResponse measureSignResponse(const flagella::SimulationConfig& config, doubl
       for (long k = 0; k < sample_steps; ++k) driver.step(signed_omega);
     Eigen::Vector2d p;
     double heading;
-    driver.measure(p, heading);
+    measure(driver, p, heading);
     t.push_back(driver.time());
     xy.push_back(p);
     psi.push_back(heading);
@@ -186,7 +149,7 @@ SwitchingResponse measureSwitching(const flagella::SimulationConfig& config, dou
                                    const CalibrationOptions& options) {
   options.validate();
   const std::string run = "periodic switching";
-  Driver driver(config, omega, run);
+  SessionDriver driver(config, omega, run);
   const double dt = driver.dt();
   const long half_steps = wholeSteps("switch_period/2", 0.5 * options.switch_period, dt);
   const long sample_steps = wholeSteps("sample_interval", options.sample_interval, dt);
@@ -205,7 +168,7 @@ SwitchingResponse measureSwitching(const flagella::SimulationConfig& config, dou
     if (period_start || k % sample_steps == 0) {
       Eigen::Vector2d p;
       double psi;
-      driver.measure(p, psi);
+      measure(driver, p, psi);
       psi_unwrapped = have_heading ? psi_unwrapped + wrapAngle(psi - psi_last) : psi;
       psi_last = psi;
       have_heading = true;

@@ -20,6 +20,7 @@ void ControllerLcmShell::onCameraFix(const lcm::ReceiveBuffer*, const std::strin
   fix_pending_ = true;
   fix_position_[0] = msg->point.x;
   fix_position_[1] = msg->point.y;
+  fix_position_[2] = msg->point.z;
 }
 
 void ControllerLcmShell::onImu(const lcm::ReceiveBuffer*, const std::string&,
@@ -34,11 +35,15 @@ void ControllerLcmShell::onImu(const lcm::ReceiveBuffer*, const std::string&,
   inputs_.angular_velocity[0] = msg->angular_velocity.x;
   inputs_.angular_velocity[1] = msg->angular_velocity.y;
   inputs_.angular_velocity[2] = msg->angular_velocity.z;
+  inputs_.linear_acceleration[0] = msg->linear_acceleration.x;
+  inputs_.linear_acceleration[1] = msg->linear_acceleration.y;
+  inputs_.linear_acceleration[2] = msg->linear_acceleration.z;
   // The latest camera fix, on this step only.
   inputs_.position_valid = fix_pending_;
   if (fix_pending_) {
     inputs_.position[0] = fix_position_[0];
     inputs_.position[1] = fix_position_[1];
+    inputs_.position[2] = fix_position_[2];
     fix_pending_ = false;
   }
   last_ = controller_.step(inputs_);

@@ -97,7 +97,7 @@ flagella_lcm::point_stamped_t toCameraFixMessage(const CameraFix& fix,
                                                  const std::string& world_frame) {
   flagella_lcm::point_stamped_t m;
   m.header = lcmHeader(fix.time, world_frame);
-  m.point = point(Vec3(fix.position.x(), fix.position.y(), 0.0));
+  m.point = point(Vec3(fix.position.x(), fix.position.y(), fix.height));
   return m;
 }
 

@@ -65,6 +65,31 @@ TEST(CameraModel, NoiseFreeFixIsTheHorizontalPartOfTheTruth) {
   EXPECT_EQ(fix.variance, 0.0);
 }
 
+TEST(CameraModel, StereoFixAddsTheHeightWithItsOwnNoise) {
+  CameraModel overhead(CameraOptions{});
+  EXPECT_FALSE(overhead.measure(0.0, kTruth).has_height);
+  EXPECT_EQ(overhead.measure(0.0, kTruth).height, 0.0);
+  CameraOptions o;
+  o.stereo = true;
+  CameraModel exact(o);
+  const CameraFix fix = exact.measure(0.0, kTruth);
+  EXPECT_TRUE(fix.has_height);
+  EXPECT_EQ(fix.height, kTruth.z());
+  o.height_noise_std = 2e-3;
+  CameraModel noisy(o);
+  double sum = 0.0, sum2 = 0.0;
+  const int n = 4000;
+  for (int i = 0; i < n; ++i) {
+    const double e = noisy.measure(0.0, kTruth).height - kTruth.z();
+    sum += e, sum2 += e * e;
+  }
+  // mean within 4 standard errors, std within 5 % (n = 4000: its relative error is 1.1 %)
+  EXPECT_NEAR(sum / n, 0.0, 4 * 2e-3 / std::sqrt(n));
+  EXPECT_NEAR(std::sqrt(sum2 / n), 2e-3, 0.05 * 2e-3);
+  o.height_noise_std = -1.0;
+  EXPECT_THROW(CameraModel{o}, ConfigError);
+}
+
 TEST(CameraModel, SessionFixIsTheSnapshotHeadPositionInTheOutputFrame) {
   // Design 1 has z up already; the interface robot's `up` is +y, so the output frame rotation
   // matters: the fix must be the snapshot's (rotated) head x, y, not the simulation's.

@@ -13,9 +13,11 @@ struct ControllerInputs {
   bool imu_valid = false;
   double orientation[4] = {0.0, 0.0, 0.0, 1.0};  ///< quaternion x, y, z, w, head in world
   double angular_velocity[3] = {0.0, 0.0, 0.0};  ///< [rad/s], head frame
-  // Optional position fix (an overhead camera)
+  /// Specific force [m/s^2], head frame (the head accelerometer; at rest +g upward).
+  double linear_acceleration[3] = {0.0, 0.0, 0.0};
+  // Optional position fix (an overhead camera: x, y; two cameras on the tank: x, y, z)
   bool position_valid = false;
-  double position[2] = {0.0, 0.0};  ///< [m], world x, y
+  double position[3] = {0.0, 0.0, 0.0};  ///< [m], world x, y, z (z up)
 };
 
 enum class ControllerMode : std::uint8_t { Idle = 0, Running = 1, Finished = 2, Fault = 3 };

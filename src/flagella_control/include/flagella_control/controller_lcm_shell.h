@@ -32,7 +32,7 @@ class ControllerLcmShell {
   ControllerInputs inputs_;
   ControllerOutputs last_;
   bool fix_pending_ = false;
-  double fix_position_[2] = {0.0, 0.0};  ///< latest camera fix not yet given to the controller
+  double fix_position_[3] = {0.0, 0.0, 0.0};  ///< latest camera fix not yet given to the controller
   long imu_received_ = 0, commands_published_ = 0, camera_received_ = 0;
 };
 

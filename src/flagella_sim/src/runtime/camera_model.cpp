@@ -16,6 +16,7 @@ constexpr double kTimeSlack = 1e-9;     // [s]: round-off of simulated time summ
 void CameraOptions::validate() const {
   requireInRange("camera.rate", rate, 0.0, kMaxCameraRate, "Hz (0: off)");
   requireInRange("camera.noise_std", noise_std, 0.0, kMaxNoiseStd, "m");
+  requireInRange("camera.height_noise_std", height_noise_std, 0.0, kMaxNoiseStd, "m");
   requireInRange("camera.dropout_start", dropout_start, -kMaxTime, kMaxTime, "s (negative: none)");
   if (dropout_start >= 0.0) {
     requireInRange("camera.dropout_end", dropout_end, dropout_start, kMaxTime,
@@ -43,6 +44,13 @@ CameraFix CameraModel::measure(double time, const Vec3& head_position) {
   if (options_.noise_std > 0.0)
     fix.position += options_.noise_std * Eigen::Vector2d(unit_normal_(rng_), unit_normal_(rng_));
   fix.variance = options_.noise_std * options_.noise_std;
+  if (options_.stereo) {
+    fix.has_height = true;
+    fix.height = head_position.z();
+    if (options_.height_noise_std > 0.0)
+      fix.height += options_.height_noise_std * unit_normal_(rng_);
+    fix.height_variance = options_.height_noise_std * options_.height_noise_std;
+  }
   return fix;
 }
 

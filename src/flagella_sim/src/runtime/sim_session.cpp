@@ -116,6 +116,13 @@ RodSnapshot SimSession::snapshot() const { return takeSnapshot(*sim_, output_fro
 ImuSample SimSession::measureImu() {
   ImuSample sample = imu_.measure(head_motion_.motion());
   sample.orientation = (output_from_sim_ * sample.orientation).normalized();
+  if (options_.accelerometer.feeds_imu) {
+    const AccelerometerOptions& a = options_.accelerometer;
+    sample.linear_acceleration = measureAccelerometer().acceleration;
+    // white noise plus the quantization's uniform error (one count wide)
+    sample.linear_acceleration_variance =
+        a.noise_std * a.noise_std + a.resolution * a.resolution / 12.0;
+  }
   return sample;
 }
 

@@ -22,6 +22,9 @@ struct AccelerometerOptions {
   Vec3 bias = Vec3::Zero();              ///< zero-g offset per axis [m/s^2]
   double output_rate = 100.0;            ///< output data rate [Hz]
   unsigned seed = 1;
+  /// The IMU message's linear acceleration is this accelerometer's output (counts x resolution,
+  /// held between readings) instead of the IMU's own specific-force model.
+  bool feeds_imu = false;
 
   /// Throws ConfigError naming the field and its allowed range.
   void validate() const;

@@ -1,0 +1,134 @@
+// The mass-transformer closed loop (docs/model.md 7.4): 3-D waypoint following of the helical
+// robot with its two inputs, the motor rate and the internal slider. ControllerCore contract:
+// fixed step (on every IMU sample), ROS-free, no heap allocation in step().
+//
+// Estimator: the direction of travel from the IMU (two cascaded first-order filters remove the
+// head's wobble), its elevation from the accelerometer (filtered), the head roll and the shaft
+// angle (integral of the commanded rate) for the flagellum's phase, and the position
+// dead-reckoned at the calibrated cruise speed and pulled toward each camera fix.
+// Guidance: toward the current waypoint; reached within the mission's tolerance.
+// Modes:
+//  - cruise: omega_3 below the buckling threshold, slider holding the target elevation;
+//  - buckle-to-turn: azimuth error above `turn_threshold`: buckle cycles (schedule relax or
+//    three_level), each started when the flagellum's phase makes the calibrated turn of the
+//    cycle (a constant part plus a part set by the phase) go to the wanted side, then a settling
+//    time before the next; a side the cycles cannot turn to is left to the turn over the
+//    vertical;
+//  - mass-transformer: an elevation change above `tilt_mode_threshold`, or an azimuth error above
+//    `large_turn` (a waypoint behind): the slider pitches the robot toward the vertical
+//    (`flip_elevation`), where buckle cycles turn its azimuth by deflection / cos(elevation),
+//    then back down to the leg's elevation.
+// The slider loop: PI on the elevation error from the accelerometer, gain scheduled by the
+// calibrated pitch rate per slider metre and cos(elevation), anti-windup at the travel limits;
+// its integral finds the slider position that cancels an unknown COM-COV offset.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "flagella_control/controller_core.h"
+#include "flagella_control/head_attitude.h"
+#include "flagella_control/steering_calibration.h"
+#include "flagella_control/waypoint_mission.h"
+
+namespace flagella::control {
+
+struct SteeringGains {
+  BuckleScheduleKind schedule = BuckleScheduleKind::Relax;
+  double heading_filter_time = 2.5;   ///< each of the two direction filters [s]
+  double tilt_filter_time = 0.5;      ///< accelerometer elevation filter [s]
+  double turn_threshold = 0.07;       ///< azimuth error that calls for buckle turns [rad]
+  double large_turn = M_PI / 2;       ///< azimuth error that calls for a turn over the vertical
+  double flip_elevation = 1.31;       ///< elevation of that turn (75 deg) [rad]
+  double flip_exit = 0.35;            ///< azimuth error that ends it [rad]
+  double tilt_mode_threshold = 0.17;  ///< elevation error reported as mass-transformer mode [rad]
+  double phase_window = 0.35;         ///< a cycle starts within this phase of the best one [rad]
+  /// Buckle turns to a side only if the best cycle turns that way by at least this share of the
+  /// calibrated phase-dependent deflection (else the constant part wins: no turn that way).
+  double min_turn_share = 0.25;
+  double settle_time = 6.0;            ///< after a cycle, before the next [s]
+  double max_elevation = 1.05;         ///< limit of a leg's target elevation (60 deg) [rad]
+  double tilt_time_constant = 4.0;     ///< closed-loop time constant of the slider loop [s]
+  double tilt_integral_time = 12.0;    ///< its integral time [s]
+  double slider_margin = 2e-4;         ///< keep off the hard stops by this [m]
+  double fix_gain = 0.3;               ///< position: p += gain (fix - p)
+  double imu_timeout = 0.5;            ///< IMU older than this: no new cycles, slider held [s]
+  double fix_timeout = 20.0;           ///< camera older than this: fix reported stale [s]
+  double sensor_fault_timeout = 10.0;  ///< no IMU for this long: fault, motor stopped [s]
+  /// Throws std::invalid_argument naming the field and its range.
+  void validate() const;
+};
+
+enum class SteeringMode : std::uint8_t {
+  Waiting = 0,  ///< for the first IMU sample
+  Cruise = 1,
+  BuckleTurn = 2,
+  MassTransformer = 3,
+  Finished = 4,
+  Fault = 5
+};
+const char* steeringModeName(SteeringMode mode);
+
+struct SteeringStatus {
+  SteeringMode mode = SteeringMode::Waiting;
+  int waypoint = 0;               ///< index of the waypoint being approached
+  int reached = 0;                ///< waypoints reached so far
+  double distance = 0.0;          ///< estimated distance to the waypoint [m]
+  double azimuth_error = 0.0;     ///< wanted minus estimated azimuth of travel [rad]
+  double elevation = 0.0;         ///< estimated elevation of travel (accelerometer) [rad]
+  double target_elevation = 0.0;  ///< of the slider loop [rad]
+  bool in_cycle = false;          ///< a buckle cycle is running
+  bool turn_possible = true;      ///< a buckle cycle can turn toward the wanted side
+  long cycles = 0;                ///< buckle cycles started
+  bool flipping = false;          ///< a turn over the vertical is under way
+  bool imu_stale = false, fix_stale = false, slider_saturated = false;
+  const char* message = "waiting for the first IMU sample";  ///< static text
+};
+
+class MassTransformerController : public ControllerCore {
+ public:
+  /// Throws std::invalid_argument for an invalid mission, calibration or gains.
+  MassTransformerController(WaypointMission mission, SteeringCalibration calibration,
+                            SteeringGains gains = {});
+  ControllerOutputs step(const ControllerInputs& inputs) override;
+  void reset() override;
+  const char* name() const override { return "mass_transformer"; }
+
+  const SteeringStatus& status() const { return status_; }
+  /// Waypoints in the world (valid once anchored: status().mode != Waiting).
+  const std::vector<Vec3>& waypoints() const { return world_points_; }
+  const Vec3& estimatedPosition() const { return position_; }
+  const Vec3& estimatedDirection() const { return direction_; }
+  const SteeringCalibration& calibration() const { return calibration_; }
+  const WaypointMission& mission() const { return mission_; }
+  const SteeringGains& gains() const { return gains_; }
+
+ private:
+  void anchor(const ControllerInputs& in);
+  void estimate(const ControllerInputs& in, double dt);
+  void guide();
+  double motorCommand(double time);
+  bool turnPossible(int side) const;
+  double sliderCommand(double dt);
+  ControllerOutputs output(double motor, double slider, ControllerMode mode) const;
+
+  WaypointMission mission_;
+  SteeringCalibration calibration_;
+  SteeringGains gains_;
+  const BuckleSchedule* schedule_ = nullptr;
+  std::vector<Vec3> world_points_;
+  SteeringStatus status_;
+
+  bool anchored_ = false;
+  double last_time_ = 0.0, last_imu_time_ = 0.0, last_fix_time_ = 0.0;
+  double last_motor_ = 0.0, last_slider_ = 0.0;
+  Vec3 position_ = Vec3::Zero();
+  Vec3 direction_ = Vec3::UnitX(), direction_stage_ = Vec3::UnitX();
+  double elevation_ = 0.0;  ///< filtered accelerometer elevation of travel
+  double roll_ = 0.0, shaft_ = 0.0;
+  Vec3 wanted_ = Vec3::UnitX();   ///< unit direction to the waypoint
+  double slider_integral_ = 0.0;  ///< [m] from the park position
+  double cycle_start_ = 0.0, next_cycle_allowed_ = 0.0;
+};
+
+}  // namespace flagella::control

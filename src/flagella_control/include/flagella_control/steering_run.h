@@ -1,0 +1,65 @@
+// One headless steering run (flagella_steer, the robustness tool, tests): the core simulator and
+// the mass-transformer controller over LCM (memq://, no ROS), the model possibly wrong
+// (model errors scale config values the calibration assumed), noisy sensors seeded. Scored on
+// the true head path: a waypoint is reached when the path comes within the tolerance.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "flagella_control/mass_transformer_controller.h"
+#include "flagella_sim/runtime/sim_session.h"
+#include "flagella_sim/simulation/simulation_config.h"
+
+namespace flagella::control {
+
+/// Config overrides "field=value" that scale config values by factors: `errors` holds
+/// (key, factor) with key a config field (section.field) or one of the aliases eps
+/// (effects.rss.eps_ratio), E (robot.youngs_modulus), C_t, C_r (effects.stokes_head.*) and
+/// l_0 (effects.com_offset.offset). The nominal value is the file's (after `overrides`), else
+/// the simulation's default. Throws ConfigError naming an unknown key or a bad factor.
+std::vector<std::string> modelErrorOverrides(
+    const std::string& config_path, const std::vector<std::string>& overrides,
+    const std::vector<std::pair<std::string, double>>& errors);
+
+/// The sensors of a steering run (defaults: a noisy ADXL345 feeding the IMU message, IMU
+/// orientation noise, two cameras at 1 Hz with 1 mm noise).
+flagella::SessionOptions steeringSessionOptions(const flagella::SimulationConfig& config,
+                                                const SteeringCalibration& calibration,
+                                                unsigned seed);
+
+struct SteeringSample {
+  double time = 0.0;
+  Vec3 position = Vec3::Zero();  ///< true head centre, output frame
+  Vec3 estimate = Vec3::Zero();  ///< the controller's estimate
+  double motor = 0.0, slider = 0.0;
+  SteeringMode mode = SteeringMode::Waiting;
+};
+
+struct SteeringRunResult {
+  int reached = 0;  ///< waypoints the true path came within the tolerance of
+  int total = 0;
+  std::vector<double> miss;  ///< closest approach of the true path per waypoint [m]
+  double max_miss = 0.0;     ///< [m]
+  bool finished = false;     ///< the controller declared every waypoint reached
+  double time = 0.0;         ///< simulated time at the end [s]
+  double wall_seconds = 0.0;
+  bool halted = false;
+  long cycles = 0;
+  std::vector<std::pair<double, SteeringMode>> modes;  ///< mode changes (time, new mode)
+  std::vector<SteeringSample> samples;
+  std::vector<Vec3> waypoints;  ///< in the world
+};
+
+/// Runs until the controller finishes or `max_duration` of simulated time.
+SteeringRunResult runSteering(const flagella::SimulationConfig& config,
+                              const flagella::SessionOptions& session_options,
+                              MassTransformerController& controller, double max_duration,
+                              double sample_interval = 0.5);
+
+/// The result as JSON (reached, total, max_miss_mm, time_s, modes, ...).
+std::string steeringResultJson(const SteeringRunResult& result, const std::string& controller,
+                               const std::string& mission);
+
+}  // namespace flagella::control

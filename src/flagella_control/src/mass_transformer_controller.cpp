@@ -1,0 +1,270 @@
+// The mass-transformer closed loop (docs/model.md 7.4); see the header for the design.
+#include "flagella_control/mass_transformer_controller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "flagella_control/heading.h"
+#include "flagella_control/validation.h"
+
+namespace flagella::control {
+
+namespace {
+const char* const kContext = "steering gains";
+constexpr double kMinGravityReading = 4.0;  // [m/s^2]: below, the accelerometer gives no tilt
+constexpr double kMinCosElevation = 0.25;   // gain schedule limit of the slider loop
+
+// One step of a first-order filter with time constant tau.
+double blend(double dt, double tau) { return tau > 0.0 ? std::min(1.0, dt / tau) : 1.0; }
+}  // namespace
+
+void SteeringGains::validate() const {
+  requireInRange(kContext, "heading_filter_time", heading_filter_time, 0.0, 60.0);
+  requireInRange(kContext, "tilt_filter_time", tilt_filter_time, 0.0, 60.0);
+  requireInRange(kContext, "turn_threshold", turn_threshold, 1e-3, M_PI / 2);
+  requireInRange(kContext, "large_turn", large_turn, turn_threshold, M_PI);
+  requireInRange(kContext, "flip_elevation", flip_elevation, 0.35, 1.50);
+  requireInRange(kContext, "flip_exit", flip_exit, turn_threshold, large_turn);
+  requireInRange(kContext, "tilt_mode_threshold", tilt_mode_threshold, 0.0, M_PI);
+  requireInRange(kContext, "phase_window", phase_window, 0.01, M_PI);
+  requireInRange(kContext, "min_turn_share", min_turn_share, 0.0, 1.0);
+  requireInRange(kContext, "settle_time", settle_time, 0.0, 600.0);
+  requireInRange(kContext, "max_elevation", max_elevation, 0.0, flip_elevation);
+  requireInRange(kContext, "tilt_time_constant", tilt_time_constant, 0.1, 600.0);
+  requireInRange(kContext, "tilt_integral_time", tilt_integral_time, 0.1, 1e4);
+  requireInRange(kContext, "slider_margin", slider_margin, 0.0, 0.01);
+  requireInRange(kContext, "fix_gain", fix_gain, 0.0, 1.0);
+  requireInRange(kContext, "imu_timeout", imu_timeout, 1e-3, 60.0);
+  requireInRange(kContext, "fix_timeout", fix_timeout, 1e-3, 1e4);
+  requireInRange(kContext, "sensor_fault_timeout", sensor_fault_timeout, imu_timeout, 1e4);
+}
+
+const char* steeringModeName(SteeringMode mode) {
+  switch (mode) {
+    case SteeringMode::Waiting:
+      return "waiting";
+    case SteeringMode::Cruise:
+      return "cruise";
+    case SteeringMode::BuckleTurn:
+      return "buckle_turn";
+    case SteeringMode::MassTransformer:
+      return "mass_transformer";
+    case SteeringMode::Finished:
+      return "finished";
+    case SteeringMode::Fault:
+      return "fault";
+  }
+  return "unknown";
+}
+
+MassTransformerController::MassTransformerController(WaypointMission mission,
+                                                     SteeringCalibration calibration,
+                                                     SteeringGains gains)
+    : mission_(std::move(mission)), calibration_(std::move(calibration)), gains_(gains) {
+  mission_.validate();
+  calibration_.validate();
+  gains_.validate();
+  schedule_ = &calibration_.schedule(gains_.schedule);
+  world_points_.resize(mission_.points.size(), Vec3::Zero());
+  reset();
+}
+
+void MassTransformerController::reset() {
+  status_ = SteeringStatus{};
+  anchored_ = false;
+  last_time_ = last_imu_time_ = last_fix_time_ = 0.0;
+  last_motor_ = 0.0;
+  last_slider_ = calibration_.park_position;
+  position_ = Vec3::Zero();
+  direction_ = direction_stage_ = Vec3::UnitX();
+  elevation_ = roll_ = shaft_ = 0.0;
+  wanted_ = Vec3::UnitX();
+  slider_integral_ = 0.0;
+  cycle_start_ = next_cycle_allowed_ = 0.0;
+}
+
+ControllerOutputs MassTransformerController::output(double motor, double slider,
+                                                    ControllerMode mode) const {
+  ControllerOutputs out;
+  out.motor_command = motor;
+  out.slider_valid = true;
+  out.slider_position = slider;
+  out.mode = mode;
+  return out;
+}
+
+void MassTransformerController::anchor(const ControllerInputs& in) {
+  const HeadAttitude attitude = attitudeFromQuaternion(in.orientation);
+  direction_ = direction_stage_ = attitude.forward;
+  roll_ = attitude.roll;
+  const double a = travelElevationFromAcceleration(in.linear_acceleration, kMinGravityReading);
+  elevation_ = std::isfinite(a) ? a : elevationOf(attitude.forward);
+  if (in.position_valid) {
+    position_ = Vec3(in.position[0], in.position[1], in.position[2]);
+    last_fix_time_ = in.time;
+  }
+  const double azimuth = azimuthOf(attitude.forward);
+  for (std::size_t i = 0; i < world_points_.size(); ++i)  // sized at construction
+    world_points_[i] = worldWaypoint(mission_, mission_.points[i], position_, azimuth);
+  anchored_ = true;
+  last_time_ = last_imu_time_ = in.time;
+  next_cycle_allowed_ = in.time + gains_.settle_time;
+  status_.mode = SteeringMode::Cruise;
+}
+
+void MassTransformerController::estimate(const ControllerInputs& in, double dt) {
+  // Shaft angle relative to the head: the integral of the rate commanded last step.
+  shaft_ += last_motor_ * dt;
+  // Position: dead reckoning at the calibrated speed (scaled by the rate below the threshold,
+  // 0 when stopped), then the camera fix.
+  const double rate = std::min(std::abs(last_motor_), calibration_.cruise_omega);
+  position_ += calibration_.cruise_speed * (rate / calibration_.cruise_omega) * dt * direction_;
+  if (in.position_valid) {
+    position_ +=
+        gains_.fix_gain * (Vec3(in.position[0], in.position[1], in.position[2]) - position_);
+    last_fix_time_ = in.time;
+  }
+  if (in.imu_valid) {
+    const HeadAttitude attitude = attitudeFromQuaternion(in.orientation);
+    const double k = blend(dt, gains_.heading_filter_time);
+    direction_stage_ = (direction_stage_ + k * (attitude.forward - direction_stage_)).normalized();
+    direction_ = (direction_ + k * (direction_stage_ - direction_)).normalized();
+    roll_ = attitude.roll;
+    last_imu_time_ = in.time;
+    const double a = travelElevationFromAcceleration(in.linear_acceleration, kMinGravityReading);
+    if (std::isfinite(a)) elevation_ += blend(dt, gains_.tilt_filter_time) * (a - elevation_);
+  }
+  status_.imu_stale = in.time - last_imu_time_ > gains_.imu_timeout;
+  status_.fix_stale = in.time - last_fix_time_ > gains_.fix_timeout;
+}
+
+void MassTransformerController::guide() {
+  const int count = static_cast<int>(world_points_.size());
+  while (status_.waypoint < count &&
+         (world_points_[status_.waypoint] - position_).norm() <= mission_.tolerance) {
+    ++status_.waypoint;
+    ++status_.reached;
+  }
+  if (status_.waypoint >= count) return;
+  const Vec3 to_go = world_points_[status_.waypoint] - position_;
+  status_.distance = to_go.norm();
+  wanted_ = to_go / status_.distance;
+  status_.azimuth_error = wrapAngle(azimuthOf(wanted_) - azimuthOf(direction_));
+  const double leg_elevation =
+      std::clamp(elevationOf(wanted_), -gains_.max_elevation, gains_.max_elevation);
+  // A turn over the vertical starts beyond `large_turn` (or beyond `flip_exit` toward a side
+  // buckle cycles cannot turn to) and ends within `flip_exit`.
+  const double abs_error = std::abs(status_.azimuth_error);
+  const int side = status_.azimuth_error > 0.0 ? 1 : -1;
+  status_.turn_possible = turnPossible(side);
+  if (!status_.flipping &&
+      (abs_error > gains_.large_turn || (!status_.turn_possible && abs_error > gains_.flip_exit)))
+    status_.flipping = true;
+  if (status_.flipping && abs_error < gains_.flip_exit) status_.flipping = false;
+  // Over the top unless the leg clearly dives.
+  const double flip =
+      leg_elevation < -gains_.tilt_mode_threshold ? -gains_.flip_elevation : gains_.flip_elevation;
+  status_.target_elevation = status_.flipping ? flip : leg_elevation;
+}
+
+bool MassTransformerController::turnPossible(int side) const {
+  return schedule_->bestTurn(side) > gains_.min_turn_share * schedule_->deflection;
+}
+
+double MassTransformerController::motorCommand(double time) {
+  const double cruise = calibration_.cruise_omega;
+  if (status_.in_cycle) {
+    const double s = time - cycle_start_;
+    if (s < schedule_->cycleDuration()) return schedule_->omegaAt(s, cruise);
+    status_.in_cycle = false;
+    next_cycle_allowed_ = time + gains_.settle_time;
+  }
+  // Buckle cycles steer the azimuth; during a turn over the vertical only near its elevation.
+  const bool wants_turn =
+      std::abs(status_.azimuth_error) > gains_.turn_threshold &&
+      (!status_.flipping || std::abs(elevation_) > gains_.flip_elevation - 0.17);
+  // +1: left (toward w). Over the vertical, the long way round when only that side can turn.
+  int side = status_.azimuth_error > 0.0 ? 1 : -1;
+  if (status_.flipping && !turnPossible(side)) side = -side;
+  if (wants_turn && turnPossible(side) && !status_.imu_stale && time >= next_cycle_allowed_) {
+    // Start when this phase gives a turn to the wanted side within the window of the best.
+    double up = 0.0, left = 0.0;
+    schedule_->predictedTurn(roll_, shaft_, up, left);
+    const double threshold =
+        side * schedule_->bias_left + schedule_->deflection * std::cos(gains_.phase_window);
+    if (side * left >= threshold) {
+      status_.in_cycle = true;
+      ++status_.cycles;
+      cycle_start_ = time;
+      return schedule_->omegaAt(0.0, cruise);
+    }
+  }
+  return cruise;
+}
+
+double MassTransformerController::sliderCommand(double dt) {
+  const double lo = calibration_.slider_min + gains_.slider_margin;
+  const double hi = calibration_.slider_max - gains_.slider_margin;
+  if (status_.imu_stale) return last_slider_;  // no tilt: hold
+  const double error = status_.target_elevation - elevation_;
+  const double k = calibration_.pitch_rate_per_slider *
+                   std::max(std::cos(elevation_), kMinCosElevation);    // [rad/s per m]
+  const double proportional = error / (k * gains_.tilt_time_constant);  // [m]
+  const double increment = proportional * dt / gains_.tilt_integral_time;
+  const double unclamped = calibration_.park_position + proportional + slider_integral_;
+  // Anti-windup: integrate only while the output is inside the travel or the step moves it in.
+  if ((unclamped < hi || increment < 0.0) && (unclamped > lo || increment > 0.0))
+    slider_integral_ += increment;
+  const double command = calibration_.park_position + proportional + slider_integral_;
+  status_.slider_saturated = command > hi || command < lo;
+  return std::clamp(command, lo, hi);
+}
+
+ControllerOutputs MassTransformerController::step(const ControllerInputs& in) {
+  if (status_.mode == SteeringMode::Finished || status_.mode == SteeringMode::Fault)
+    return output(
+        0.0, calibration_.park_position,
+        status_.mode == SteeringMode::Finished ? ControllerMode::Finished : ControllerMode::Fault);
+  if (!anchored_) {
+    if (!in.imu_valid) return output(0.0, calibration_.park_position, ControllerMode::Idle);
+    anchor(in);
+  }
+  const double dt = std::max(0.0, in.time - last_time_);
+  last_time_ = in.time;
+  estimate(in, dt);
+  if (in.time - last_imu_time_ > gains_.sensor_fault_timeout) {
+    status_.mode = SteeringMode::Fault;
+    status_.message = "no IMU sample within sensor_fault_timeout: motor stopped";
+    last_motor_ = 0.0;
+    return output(0.0, calibration_.park_position, ControllerMode::Fault);
+  }
+  guide();
+  if (status_.waypoint >= static_cast<int>(world_points_.size())) {
+    status_.mode = SteeringMode::Finished;
+    status_.message = "all waypoints reached";
+    status_.in_cycle = false;
+    last_motor_ = 0.0;
+    return output(0.0, calibration_.park_position, ControllerMode::Finished);
+  }
+  const double motor = motorCommand(in.time);
+  const double slider = sliderCommand(dt);
+  status_.elevation = elevation_;
+  if (status_.flipping ||
+      std::abs(status_.target_elevation - elevation_) > gains_.tilt_mode_threshold) {
+    status_.mode = SteeringMode::MassTransformer;
+    status_.message = status_.flipping ? "turning over the vertical" : "changing elevation";
+  } else if (status_.in_cycle || std::abs(status_.azimuth_error) > gains_.turn_threshold) {
+    status_.mode = SteeringMode::BuckleTurn;
+    status_.message = status_.in_cycle ? "buckle cycle" : "waiting for the flagellum's phase";
+  } else {
+    status_.mode = SteeringMode::Cruise;
+    status_.message = "cruising";
+  }
+  if (status_.imu_stale) status_.message = "IMU stale: no new buckle cycle, slider held";
+  last_motor_ = motor;
+  last_slider_ = slider;
+  return output(motor, slider, ControllerMode::Running);
+}
+
+}  // namespace flagella::control

@@ -1,0 +1,241 @@
+#include "flagella_control/steering_calibration_runner.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "flagella_control/head_attitude.h"
+#include "flagella_control/heading.h"
+#include "flagella_control/session_driver.h"
+#include "flagella_control/validation.h"
+#include "flagella_sim/analysis/buckling_probe.h"
+#include "flagella_sim/core/units.h"
+
+namespace flagella::control {
+
+namespace {
+
+const char* const kOptions = "steering calibration options";
+
+HeadAttitude attitudeOf(const SessionDriver& driver) {
+  const Eigen::Quaterniond& q = driver.session().snapshot().head_orientation;
+  const double quaternion[4] = {q.x(), q.y(), q.z(), q.w()};
+  return attitudeFromQuaternion(quaternion);
+}
+
+Vec3 headPosition(const SessionDriver& driver) { return driver.session().snapshot().head_position; }
+
+// Steps `seconds` at `omega(s)` (s from now), adding every step's forward direction to `sum` and
+// the commanded rate times dt to `shaft`.
+template <class Rate>
+void advance(SessionDriver& driver, double seconds, const Rate& omega, Vec3& sum, double& shaft) {
+  const long steps = std::lround(seconds / driver.dt());
+  for (long k = 0; k < steps; ++k) {
+    const double rate = omega(k * driver.dt());
+    driver.step(rate);
+    shaft += rate * driver.dt();
+    sum += attitudeOf(driver).forward;
+  }
+}
+
+}  // namespace
+
+void SteeringCalibrationOptions::validate() const {
+  requireInRange(kOptions, "threshold_rpm", threshold_rpm, 0.0, 1e3);
+  requirePositive(kOptions, "threshold_run", threshold_run, "s");
+  flagella::validate(search);
+  requireInRange(kOptions, "cruise_fraction", cruise_fraction, 0.05, 0.99);
+  requireInRange(kOptions, "pulse_factor", pulse_factor, 1.01, 20.0);
+  requirePositive(kOptions, "pulse_duration", pulse_duration, "s");
+  requireInRange(kOptions, "relax_duration", relax_duration, 0.0, 600.0);
+  requireInRange(kOptions, "lead_duration", lead_duration, 0.0, 600.0);
+  if (pulses < 3 || pulses > 1000)
+    throw std::invalid_argument("steering calibration options: pulses must be in [3, 1000], got " +
+                                std::to_string(pulses));
+  requireInRange(kOptions, "settle_time", settle_time, 0.0, 1e4);
+  requirePositive(kOptions, "window", window, "s");
+  requireInRange(kOptions, "after_cycle", after_cycle, 0.0, 600.0);
+  requirePositive(kOptions, "cruise_measure", cruise_measure, "s");
+  requireInRange(kOptions, "slider_step", slider_step, 1e-5, 0.05);
+  requirePositive(kOptions, "pitch_window", pitch_window, "s");
+}
+
+void fitPhaseLaw(const std::vector<PulseObservation>& pulses, BuckleSchedule& schedule) {
+  if (pulses.size() < 3)
+    throw std::invalid_argument("phase law: needs at least 3 pulses, got " +
+                                std::to_string(pulses.size()));
+  const long n = static_cast<long>(pulses.size());
+  double best = INFINITY;
+  for (double roll_sign : {1.0, -1.0}) {
+    for (double shaft_sign : {1.0, -1.0}) {
+      // up = b_u + A cos(phi) - B sin(phi), left = b_l + A sin(phi) + B cos(phi)
+      Eigen::MatrixXd M = Eigen::MatrixXd::Zero(2 * n, 4);
+      Eigen::VectorXd y(2 * n);
+      for (long i = 0; i < n; ++i) {
+        const PulseObservation& p = pulses[i];
+        const double phi = roll_sign * p.roll + shaft_sign * p.shaft;
+        M.row(2 * i) << 1.0, 0.0, std::cos(phi), -std::sin(phi);
+        M.row(2 * i + 1) << 0.0, 1.0, std::sin(phi), std::cos(phi);
+        y(2 * i) = p.up;
+        y(2 * i + 1) = p.left;
+      }
+      const Eigen::VectorXd x = M.colPivHouseholderQr().solve(y);
+      const double rms = std::sqrt((y - M * x).squaredNorm() / n);
+      if (rms < best) {
+        best = rms;
+        schedule.roll_sign = roll_sign;
+        schedule.shaft_sign = shaft_sign;
+        schedule.bias_up = x(0);
+        schedule.bias_left = x(1);
+        schedule.deflection = std::hypot(x(2), x(3));
+        schedule.phase_offset = wrapAngle(std::atan2(x(3), x(2)));
+        schedule.phase_spread = rms;
+      }
+    }
+  }
+}
+
+std::vector<PulseObservation> observePulses(const flagella::SimulationConfig& config,
+                                            const BuckleSchedule& schedule, double cruise_omega,
+                                            const SteeringCalibrationOptions& options) {
+  SessionDriver driver(config, schedule.pulse_omega,
+                       std::string("pulses (") + scheduleName(schedule.kind) + ")");
+  const auto cruise = [&](double) { return cruise_omega; };
+  Vec3 sum = Vec3::Zero();
+  double shaft = 0.0;
+  advance(driver, options.settle_time, cruise, sum, shaft);
+  sum.setZero();
+  advance(driver, options.window, cruise, sum, shaft);
+  std::vector<PulseObservation> pulses;
+  for (int i = 0; i < options.pulses; ++i) {
+    const Vec3 before = sum.normalized();
+    PulseObservation p;
+    p.roll = attitudeOf(driver).roll;
+    p.shaft = shaft;
+    Vec3 ignored = Vec3::Zero();
+    advance(
+        driver, schedule.cycleDuration(),
+        [&](double s) { return schedule.omegaAt(s, cruise_omega); }, ignored, shaft);
+    advance(driver, options.after_cycle, cruise, ignored, shaft);
+    sum.setZero();
+    advance(driver, options.window, cruise, sum, shaft);
+    const Vec3 after = sum.normalized();
+    // chi in the plane normal to the direction of travel before (head_attitude.h).
+    const NormalPlane plane = normalPlane(before);
+    const Vec3 change = after - before;
+    p.up = change.dot(plane.u);
+    p.left = change.dot(plane.w);
+    pulses.push_back(p);
+  }
+  return pulses;
+}
+
+SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
+                                      const SteeringCalibrationOptions& options,
+                                      const std::function<void(const std::string&)>& progress) {
+  options.validate();
+  if (!config.slider.enabled)
+    throw std::runtime_error("steering calibration: the config has no slider: section");
+  const auto report = [&](const std::string& line) {
+    if (progress) progress(line);
+  };
+  SteeringCalibration c;
+  std::ostringstream source;
+  source << config.source << "; ";
+  // 1. Buckling threshold.
+  double threshold_rpm = options.threshold_rpm;
+  if (threshold_rpm > 0.0) {
+    source << "threshold given " << threshold_rpm << " rpm; ";
+  } else {
+    flagella::SimulationConfig probe_config = config;
+    probe_config.duration = options.threshold_run;
+    const flagella::ThresholdResult r = flagella::findThreshold(
+        [&](double rpm) { return flagella::runBucklingProbe(probe_config, rpm); }, options.search);
+    if (!r.found) throw std::runtime_error("steering calibration: threshold search: " + r.message);
+    threshold_rpm = r.threshold;
+    source << "threshold " << options.threshold_run << " s runs, " << r.runs.size() << " runs; ";
+  }
+  c.buckling_threshold = flagella::units::rpmToRadPerSec(threshold_rpm);
+  c.cruise_omega = options.cruise_fraction * c.buckling_threshold;
+  report("buckling threshold " + numberString(threshold_rpm) + " rpm, cruise " +
+         numberString(options.cruise_fraction * threshold_rpm) + " rpm");
+  // 2. Cruise speed.
+  {
+    SessionDriver driver(config, c.cruise_omega, "cruise");
+    Vec3 ignored = Vec3::Zero();
+    double shaft = 0.0;
+    const auto cruise = [&](double) { return c.cruise_omega; };
+    advance(driver, options.settle_time, cruise, ignored, shaft);
+    const Vec3 start = headPosition(driver);
+    advance(driver, options.cruise_measure, cruise, ignored, shaft);
+    c.cruise_speed = (headPosition(driver) - start).norm() / options.cruise_measure;
+  }
+  report("cruise speed " + numberString(c.cruise_speed * 1e3) + " mm/s");
+  // 3. The two buckle schedules.
+  const double pulse_omega = options.pulse_factor * c.buckling_threshold;
+  c.relax.kind = BuckleScheduleKind::Relax;
+  c.relax.pulse_omega = pulse_omega;
+  c.relax.pulse_duration = options.pulse_duration;
+  c.relax.relax_duration = options.relax_duration;
+  c.three_level.kind = BuckleScheduleKind::ThreeLevel;
+  c.three_level.lead_duration = options.lead_duration;
+  c.three_level.pulse_omega = pulse_omega;
+  c.three_level.pulse_duration = options.pulse_duration;
+  for (BuckleSchedule* schedule : {&c.relax, &c.three_level}) {
+    fitPhaseLaw(observePulses(config, *schedule, c.cruise_omega, options), *schedule);
+    const double deg = 180 / M_PI;
+    report(std::string(scheduleName(schedule->kind)) + ": per cycle, constant turn (up " +
+           numberString(schedule->bias_up * deg) + ", left " +
+           numberString(schedule->bias_left * deg) + ") deg plus " +
+           numberString(schedule->deflection * deg) + " deg by phase; residual " +
+           numberString(schedule->phase_spread * deg) + " deg");
+  }
+  // 4. Slider: park position (no couple at the nominal l_0) and pitch rate per metre.
+  {
+    SessionDriver driver(config, c.cruise_omega, "slider step");
+    const flagella::Simulation& sim = driver.session().simulation();
+    const double ratio = config.slider.mass / sim.parameter("effects.com_offset.head_mass");
+    const double l0 =
+        sim.parameter("effects.com_offset.offset") - ratio * config.slider.initial_position;
+    c.slider_min = config.slider.travel_min;
+    c.slider_max = config.slider.travel_max;
+    c.park_position = std::clamp(-l0 / ratio, c.slider_min, c.slider_max);
+    driver.commandSlider(c.park_position);
+    Vec3 ignored = Vec3::Zero();
+    double shaft = 0.0;
+    const auto cruise = [&](double) { return c.cruise_omega; };
+    advance(driver, options.settle_time, cruise, ignored, shaft);
+    driver.commandSlider(
+        std::clamp(c.park_position + options.slider_step, c.slider_min, c.slider_max));
+    const double step =
+        std::clamp(c.park_position + options.slider_step, c.slider_min, c.slider_max) -
+        c.park_position;
+    // Least-squares slope of the elevation of travel over the window.
+    double st = 0, se = 0, stt = 0, ste = 0;
+    long n = 0;
+    const long steps = std::lround(options.pitch_window / driver.dt());
+    const double t0 = driver.time();
+    for (long k = 0; k < steps; ++k) {
+      driver.step(c.cruise_omega);
+      const double t = driver.time() - t0, e = elevationOf(attitudeOf(driver).forward);
+      st += t, se += e, stt += t * t, ste += t * e, ++n;
+    }
+    const double slope = (n * ste - st * se) / (n * stt - st * st);
+    c.pitch_rate_per_slider = slope / step;
+    report("slider: park " + numberString(c.park_position * 1e3) + " mm, pitch rate " +
+           numberString(c.pitch_rate_per_slider * 1e-3 * 180 / M_PI) + " deg/s per mm");
+  }
+  source << "cruise " << options.cruise_fraction << " omega_b, pulses " << options.pulse_factor
+         << " omega_b for " << options.pulse_duration << " s, " << options.pulses
+         << " per schedule, windows " << options.window << " s";
+  c.source = source.str();
+  try {
+    c.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(std::string("steering calibration is unusable: ") + e.what());
+  }
+  return c;
+}
+
+}  // namespace flagella::control

@@ -1,0 +1,321 @@
+// The mass-transformer controller core (mass_transformer_controller.h) against an independent
+// kinematic plant of the helical robot: the direction of travel turns by the cycle model of the
+// calibration at the end of each buckle cycle, pitches at k (x - x_park + x_err) cos(elevation)
+// under the slider (docs/model.md 5: the couple is proportional to l cos(elevation)), the head
+// rolls at a constant rate, the robot advances at the cruise speed; the IMU reports the head frame
+// (m1, m2, t = -f), the accelerometer gravity in the head frame, the camera the position at 1 Hz.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <vector>
+
+#include "flagella_control/heading.h"
+#include "flagella_control/mass_transformer_controller.h"
+#include "support/allocation_counter.h"
+
+namespace fc = flagella::control;
+using fc::Vec3;
+
+namespace {
+
+constexpr double kRate = 100.0;  // controller [Hz]
+constexpr double kG = 9.80665;
+constexpr double kDeg = M_PI / 180.0;
+
+fc::SteeringCalibration calibration() {
+  fc::SteeringCalibration c;
+  c.buckling_threshold = 1.5;
+  c.cruise_omega = 1.05;
+  c.cruise_speed = 0.4e-3;
+  for (fc::BuckleSchedule* s : {&c.relax, &c.three_level}) {
+    s->pulse_omega = 3.0;
+    s->pulse_duration = 2.0;
+    s->deflection = 4.0 * kDeg;
+    s->phase_offset = 0.3;
+  }
+  c.relax.kind = fc::BuckleScheduleKind::Relax;
+  c.relax.relax_duration = 12.0;
+  c.three_level.kind = fc::BuckleScheduleKind::ThreeLevel;
+  c.three_level.lead_duration = 2.0;
+  c.three_level.lead_omega = 0.1;
+  c.pitch_rate_per_slider = 100.0;  // [rad/s per m]: 5.7 deg/s per mm
+  c.park_position = -1e-3;
+  c.slider_min = -8e-3;
+  c.slider_max = 8e-3;
+  return c;
+}
+
+fc::WaypointMission mission(const std::vector<Vec3>& points, double tolerance = 0.01) {
+  fc::WaypointMission m;
+  m.points = points;
+  m.tolerance = tolerance;
+  return m;
+}
+
+// Kinematic plant (see the file comment).
+struct Plant {
+  Vec3 forward = Vec3::UnitX(), position = Vec3::Zero();
+  double roll = 0.0, roll_rate = -0.6, slider = -1e-3, slider_error = 0.0;
+  fc::SteeringCalibration truth = calibration();
+  fc::BuckleScheduleKind kind = fc::BuckleScheduleKind::Relax;
+  double shaft = 0.0, cycle_left = -1.0, turn_up = 0.0, turn_left = 0.0, time = 0.0;
+  double last_motor = 0.0;
+  bool imu = true, camera = true;
+  int steps = 0;
+
+  fc::ControllerInputs sense() const {
+    fc::ControllerInputs in;
+    in.time = time;
+    in.imu_valid = imu;
+    const fc::NormalPlane plane = fc::normalPlane(forward);
+    const Vec3 t = -forward;
+    const Vec3 m1 = std::cos(roll) * plane.u + std::sin(roll) * plane.w;
+    Eigen::Matrix3d R;
+    R.col(0) = m1;
+    R.col(1) = t.cross(m1);
+    R.col(2) = t;
+    const Eigen::Quaterniond q(R);
+    in.orientation[0] = q.x(), in.orientation[1] = q.y(), in.orientation[2] = q.z(),
+    in.orientation[3] = q.w();
+    const Vec3 a = R.transpose() * Vec3(0, 0, kG);
+    for (int k = 0; k < 3; ++k) in.linear_acceleration[k] = a[k];
+    in.position_valid = camera && steps % static_cast<int>(kRate) == 0;
+    for (int k = 0; k < 3; ++k) in.position[k] = position[k];
+    return in;
+  }
+
+  void apply(const fc::ControllerOutputs& out) {
+    const double dt = 1.0 / kRate;
+    const fc::BuckleSchedule& s = truth.schedule(kind);
+    // A cycle starts when the rate jumps to the schedule's first level; its turn is applied at
+    // its end, as the calibrated model predicts from the phase at the start.
+    if (cycle_left < 0.0 && last_motor == truth.cruise_omega &&
+        out.motor_command != truth.cruise_omega && out.motor_command > 0.0) {
+      s.predictedTurn(roll, shaft, turn_up, turn_left);
+      cycle_left = s.cycleDuration();
+    }
+    last_motor = out.motor_command;
+    shaft += out.motor_command * dt;
+    if (cycle_left >= 0.0) {
+      cycle_left -= dt;
+      if (cycle_left < 0.0) {
+        const fc::NormalPlane plane = fc::normalPlane(forward);
+        forward = (forward + turn_up * plane.u + turn_left * plane.w).normalized();
+      }
+    }
+    // Slider at 2.5 mm/s toward its command; pitch under the couple.
+    const double step = 2.5e-3 * dt;
+    slider += std::clamp(out.slider_position - slider, -step, step);
+    const double elevation = fc::elevationOf(forward);
+    const double pitch_rate = truth.pitch_rate_per_slider *
+                              (slider - truth.park_position + slider_error) * std::cos(elevation);
+    const double new_elevation = std::clamp(elevation + pitch_rate * dt, -1.55, 1.55);
+    forward = fc::directionFrom(fc::azimuthOf(forward), new_elevation);
+    const double speed =
+        truth.cruise_speed * std::min(out.motor_command, truth.cruise_omega) / truth.cruise_omega;
+    position += speed * dt * forward;
+    roll = fc::wrapAngle(roll + roll_rate * dt);
+    time += dt;
+    ++steps;
+  }
+};
+
+fc::ControllerOutputs run(fc::MassTransformerController& c, Plant& p, double seconds,
+                          std::vector<double>* motor = nullptr) {
+  fc::ControllerOutputs out;
+  const long n = std::lround(seconds * kRate);
+  for (long k = 0; k < n; ++k) {
+    out = c.step(p.sense());
+    if (motor) motor->push_back(out.motor_command);
+    p.apply(out);
+  }
+  return out;
+}
+
+TEST(MassTransformerController, ModeFollowsTheHeadingError) {
+  struct Case {
+    Vec3 waypoint;
+    fc::SteeringMode mode;
+    const char* what;
+  };
+  const Case cases[] = {
+      {Vec3(0.5, 0.0, 0.0), fc::SteeringMode::Cruise, "ahead"},
+      {Vec3(0.5, 0.5 * std::tan(30 * kDeg), 0.0), fc::SteeringMode::BuckleTurn, "30 deg left"},
+      {Vec3(0.5, -0.5 * std::tan(30 * kDeg), 0.0), fc::SteeringMode::BuckleTurn, "30 deg right"},
+      {Vec3(0.5, 0.0, 0.5 * std::tan(40 * kDeg)), fc::SteeringMode::MassTransformer, "climb"},
+      {Vec3(-0.5, 0.05, 0.0), fc::SteeringMode::MassTransformer, "behind"},
+  };
+  for (const Case& c : cases) {
+    fc::MassTransformerController controller(mission({c.waypoint}), calibration());
+    Plant plant;
+    plant.roll_rate = 0.0;
+    run(controller, plant, 0.5);
+    EXPECT_EQ(controller.status().mode, c.mode) << c.what << ": " << controller.status().message;
+  }
+  fc::MassTransformerController behind(mission({Vec3(-0.5, 0.05, 0.0)}), calibration());
+  Plant plant;
+  run(behind, plant, 0.5);
+  EXPECT_TRUE(behind.status().flipping);
+  EXPECT_NEAR(behind.status().target_elevation, behind.gains().flip_elevation, 1e-12);
+}
+
+TEST(MassTransformerController, BothBuckleSchedulesDriveTheirLevels) {
+  for (const auto kind : {fc::BuckleScheduleKind::Relax, fc::BuckleScheduleKind::ThreeLevel}) {
+    fc::SteeringGains gains;
+    gains.schedule = kind;
+    const fc::SteeringCalibration cal = calibration();
+    const fc::BuckleSchedule& s = cal.schedule(kind);
+    fc::MassTransformerController controller(mission({Vec3(0.5, 0.5, 0.0)}), cal, gains);
+    Plant plant;
+    plant.kind = kind;
+    std::vector<double> motor;
+    run(controller, plant, 60.0, &motor);
+    // The first sample off the cruise rate starts a cycle; from there the levels of the schedule.
+    std::size_t start = 0;
+    while (start < motor.size() && motor[start] == cal.cruise_omega) ++start;
+    ASSERT_LT(start, motor.size()) << fc::scheduleName(kind) << ": no cycle in 60 s";
+    EXPECT_GE(start / kRate, gains.settle_time - 1e-9);  // not before the first settling
+    // The cycle, then cruise during the settling time.
+    const auto span = static_cast<std::size_t>((s.cycleDuration() + gains.settle_time) * kRate);
+    for (std::size_t k = start; k < std::min(motor.size(), start + span); ++k) {
+      const double t = (k - start + 0.5) / kRate;
+      EXPECT_EQ(motor[k], s.omegaAt(t, cal.cruise_omega))
+          << fc::scheduleName(kind) << " at " << t << " s into the cycle";
+    }
+    EXPECT_GE(controller.status().cycles, 1);
+  }
+}
+
+TEST(MassTransformerController, CyclesStartAtThePhaseThatTurnsTheWantedWay) {
+  for (const int side : {1, -1}) {
+    const fc::SteeringCalibration cal = calibration();
+    fc::MassTransformerController controller(mission({Vec3(0.5, side * 0.25, 0.0)}), cal);
+    Plant plant;
+    double previous = 0.0;
+    int starts = 0;
+    for (long k = 0; k < 200 * kRate; ++k) {
+      const fc::ControllerInputs in = plant.sense();
+      const double shaft = plant.shaft, roll = plant.roll;
+      const fc::ControllerOutputs out = controller.step(in);
+      if (previous == cal.cruise_omega && out.motor_command == cal.relax.pulse_omega) {
+        ++starts;
+        double up = 0.0, left = 0.0;
+        cal.relax.predictedTurn(roll, shaft, up, left);
+        EXPECT_GT(side * left,
+                  cal.relax.deflection * std::cos(controller.gains().phase_window) - 1e-9)
+            << "side " << side << ", cycle " << starts;
+      }
+      previous = out.motor_command;
+      plant.apply(out);
+    }
+    EXPECT_GE(starts, 3) << "side " << side;
+  }
+}
+
+TEST(MassTransformerController, ASideTheCyclesCannotTurnToGoesOverTheVertical) {
+  fc::SteeringCalibration cal = calibration();
+  cal.relax.bias_left = -5 * kDeg;  // every cycle turns right by 1 to 9 deg
+  fc::MassTransformerController controller(mission({Vec3(0.5, 0.5, 0.0)}), cal);
+  Plant plant;
+  run(controller, plant, 1.0);
+  EXPECT_FALSE(controller.status().turn_possible);
+  EXPECT_TRUE(controller.status().flipping);
+}
+
+TEST(MassTransformerController, SliderStopsAtTheTargetTiltAndFindsAnUnknownOffset) {
+  const double target = std::atan2(0.3, 1.0);  // waypoint 16.7 deg up
+  for (const double slider_error : {0.0, 0.8e-3}) {
+    fc::MassTransformerController controller(mission({Vec3(1.0, 0.0, 0.3)}), calibration());
+    Plant plant;
+    plant.slider_error = slider_error;  // COM offset unknown to the calibration
+    plant.roll_rate = 0.0;
+    run(controller, plant, 400.0);
+    const double elevation = fc::elevationOf(plant.forward);
+    EXPECT_NEAR(elevation, target, 0.5 * kDeg) << "slider error " << slider_error;
+    // At rest on the target the couple vanishes: the slider cancels the offset.
+    EXPECT_NEAR(plant.slider, calibration().park_position - slider_error, 0.05e-3);
+    EXPECT_FALSE(controller.status().slider_saturated);
+  }
+}
+
+TEST(MassTransformerController, ImuDropoutHoldsThenFaults) {
+  fc::MassTransformerController controller(mission({Vec3(0.5, 0.0, 0.2)}), calibration());
+  Plant plant;
+  run(controller, plant, 20.0);
+  plant.imu = false;
+  const long cycles = controller.status().cycles;
+  fc::ControllerOutputs out = run(controller, plant, 1.0);
+  const double held = out.slider_position;
+  out = run(controller, plant, 5.0);
+  EXPECT_TRUE(controller.status().imu_stale);
+  EXPECT_EQ(out.slider_position, held);
+  EXPECT_EQ(controller.status().cycles, cycles);
+  out = run(controller, plant, controller.gains().sensor_fault_timeout);
+  EXPECT_EQ(controller.status().mode, fc::SteeringMode::Fault);
+  EXPECT_EQ(out.motor_command, 0.0);
+  EXPECT_EQ(out.mode, fc::ControllerMode::Fault);
+}
+
+TEST(MassTransformerController, StaleFixesLeaveDeadReckoning) {
+  fc::MassTransformerController controller(mission({Vec3(0.5, 0.0, 0.0)}), calibration());
+  Plant plant;
+  plant.camera = false;
+  plant.roll_rate = 0.0;
+  run(controller, plant, controller.gains().fix_timeout + 1.0);
+  EXPECT_TRUE(controller.status().fix_stale);
+  // Straight cruise: the estimate moved as the robot did.
+  EXPECT_NEAR((controller.estimatedPosition() - plant.position).norm(), 0.0, 0.05e-3);
+  EXPECT_GT(plant.position.x(), 0.5 * calibration().cruise_speed * 20.0);
+}
+
+TEST(MassTransformerController, ReachesWaypointsWithTheRightModel) {
+  // Ahead, a climb, then a turn of about 20 deg to the left: every waypoint within 5 mm of the
+  // true path.
+  fc::MassTransformerController controller(
+      mission({Vec3(0.02, 0.0, 0.0), Vec3(0.04, 0.0, 0.008), Vec3(0.06, 0.008, 0.008)}, 0.005),
+      calibration());
+  Plant plant;
+  double closest[3] = {1, 1, 1};
+  for (long k = 0; k < 1200 * kRate && controller.status().mode != fc::SteeringMode::Finished;
+       ++k) {
+    plant.apply(controller.step(plant.sense()));
+    for (int i = 0; i < 3; ++i)
+      closest[i] = std::min(closest[i], (plant.position - controller.waypoints()[i]).norm());
+  }
+  EXPECT_EQ(controller.status().mode, fc::SteeringMode::Finished) << controller.status().message;
+  for (int i = 0; i < 3; ++i) EXPECT_LT(closest[i], 0.0075) << "waypoint " << i;
+}
+
+TEST(MassTransformerController, StepDoesNotAllocate) {
+  fc::MassTransformerController controller(mission({Vec3(0.5, 0.1, 0.1), Vec3(0.0, 0.0, 0.0)}),
+                                           calibration());
+  Plant plant;
+  g_allocations = 0;
+  g_count_allocations = true;
+  for (int k = 0; k < 5000; ++k) plant.apply(controller.step(plant.sense()));
+  g_count_allocations = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+}
+
+TEST(MassTransformerController, InvalidGainsAndMissionsNameTheField) {
+  fc::SteeringGains gains;
+  gains.tilt_time_constant = -1.0;
+  try {
+    fc::MassTransformerController c(mission({Vec3(1, 0, 0)}), calibration(), gains);
+    ADD_FAILURE() << "accepted a negative time constant";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("tilt_time_constant"), std::string::npos) << e.what();
+  }
+  try {
+    fc::MassTransformerController c(mission({}), calibration());
+    ADD_FAILURE() << "accepted an empty mission";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("points"), std::string::npos) << e.what();
+  }
+  fc::SteeringCalibration bad = calibration();
+  bad.cruise_omega = 2.0;  // above the threshold
+  EXPECT_THROW(fc::MassTransformerController(mission({Vec3(1, 0, 0)}), bad), std::invalid_argument);
+}
+
+}  // namespace

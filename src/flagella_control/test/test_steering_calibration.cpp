@@ -1,0 +1,100 @@
+// The steering calibration (steering_calibration.h): the cycle model fitted to pulses made from a
+// known model recovers it (signs, bias, size, phase), the YAML file round-trips exactly, and bad
+// fields are named.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include "flagella_control/heading.h"
+#include "flagella_control/steering_calibration_runner.h"
+#include "support/temp_dir.h"
+
+namespace fc = flagella::control;
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+fc::BuckleSchedule knownSchedule() {
+  fc::BuckleSchedule s;
+  s.pulse_omega = 3.0;
+  s.pulse_duration = 2.0;
+  s.relax_duration = 12.0;
+  s.bias_up = 1.6 * kDeg;
+  s.bias_left = -3.2 * kDeg;
+  s.deflection = 3.0 * kDeg;
+  s.roll_sign = 1.0;
+  s.shaft_sign = -1.0;
+  s.phase_offset = 1.1;
+  return s;
+}
+
+TEST(SteeringCalibration, PhaseLawFitRecoversTheModel) {
+  const fc::BuckleSchedule truth = knownSchedule();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  std::normal_distribution<double> noise(0.0, 0.1 * kDeg);
+  std::vector<fc::PulseObservation> pulses;
+  for (int i = 0; i < 10; ++i) {
+    fc::PulseObservation p;
+    p.roll = angle(rng);
+    p.shaft = 40.0 * angle(rng);  // many turns of the shaft
+    truth.predictedTurn(p.roll, p.shaft, p.up, p.left);
+    p.up += noise(rng);
+    p.left += noise(rng);
+    pulses.push_back(p);
+  }
+  fc::BuckleSchedule fitted;
+  fc::fitPhaseLaw(pulses, fitted);
+  EXPECT_EQ(fitted.roll_sign, truth.roll_sign);
+  EXPECT_EQ(fitted.shaft_sign, truth.shaft_sign);
+  EXPECT_NEAR(fitted.bias_up, truth.bias_up, 0.15 * kDeg);
+  EXPECT_NEAR(fitted.bias_left, truth.bias_left, 0.15 * kDeg);
+  EXPECT_NEAR(fitted.deflection, truth.deflection, 0.15 * kDeg);
+  EXPECT_NEAR(fc::wrapAngle(fitted.phase_offset - truth.phase_offset), 0.0, 4 * kDeg);
+  EXPECT_LT(fitted.phase_spread, 0.3 * kDeg);
+  EXPECT_THROW(fc::fitPhaseLaw({pulses[0], pulses[1]}, fitted), std::invalid_argument);
+}
+
+TEST(SteeringCalibration, YamlRoundTripsAndNamesBadFields) {
+  fc::SteeringCalibration c;
+  c.buckling_threshold = 1.505;
+  c.cruise_omega = 1.0535;
+  c.cruise_speed = 3.6e-4;
+  c.relax = knownSchedule();
+  c.three_level = knownSchedule();
+  c.three_level.kind = fc::BuckleScheduleKind::ThreeLevel;
+  c.three_level.relax_duration = 0.0;
+  c.three_level.lead_duration = 2.0;
+  c.pitch_rate_per_slider = 119.8;
+  c.park_position = -1e-3;
+  c.slider_min = -8e-3;
+  c.slider_max = 8e-3;
+  c.source = "test \"quoted\"";
+  flagella::testing::TempDir dir;
+  const std::string path = (dir.path() / "steering.yaml").string();
+  fc::saveSteeringCalibration(c, path);
+  const fc::SteeringCalibration r = fc::loadSteeringCalibration(path);
+  EXPECT_EQ(r.cruise_omega, c.cruise_omega);
+  EXPECT_EQ(r.relax.bias_left, c.relax.bias_left);
+  EXPECT_EQ(r.three_level.lead_duration, c.three_level.lead_duration);
+  EXPECT_EQ(r.three_level.kind, fc::BuckleScheduleKind::ThreeLevel);
+  EXPECT_EQ(r.pitch_rate_per_slider, c.pitch_rate_per_slider);
+  EXPECT_EQ(r.source, c.source);
+  // cruise above the threshold
+  std::ifstream in(path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string key = "cruise_omega: 1.0535";
+  text.replace(text.find(key), key.size(), "cruise_omega: 2.5");
+  std::ofstream(path) << text;
+  try {
+    fc::loadSteeringCalibration(path);
+    ADD_FAILURE() << "accepted cruise_omega above the threshold";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cruise_omega"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
