@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "controller_node_io.h"
+
 namespace flagella::control::node {
 
 using flagella::control::ControllerMode;
@@ -16,19 +18,16 @@ namespace {
 constexpr int kQueue = 1000;
 constexpr double kReferenceSpacing = 0.005;  // [m] between published reference poses
 
-template <typename T>
-T param(ros::NodeHandle& pnh, const std::string& name, T fallback) {
-  T value = fallback;
-  pnh.param(name, value, fallback);
-  return value;
-}
-
 std::uint8_t toStatusMode(ControllerMode mode) {
   switch (mode) {
-    case ControllerMode::Running: return flagella_msgs::ControllerStatus::RUNNING;
-    case ControllerMode::Finished: return flagella_msgs::ControllerStatus::FINISHED;
-    case ControllerMode::Fault: return flagella_msgs::ControllerStatus::FAULT;
-    default: return flagella_msgs::ControllerStatus::IDLE;
+    case ControllerMode::Running:
+      return flagella_msgs::ControllerStatus::RUNNING;
+    case ControllerMode::Finished:
+      return flagella_msgs::ControllerStatus::FINISHED;
+    case ControllerMode::Fault:
+      return flagella_msgs::ControllerStatus::FAULT;
+    default:
+      return flagella_msgs::ControllerStatus::IDLE;
   }
 }
 
@@ -40,7 +39,8 @@ PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
     throw std::invalid_argument("~mode must be 'closed_loop' or 'open_loop', got '" + mode_ + "'");
   world_frame_ = param<std::string>(pnh, "world_frame", "world");
   const std::string calibration_file = param<std::string>(pnh, "calibration", "");
-  if (calibration_file.empty()) throw std::invalid_argument("~calibration (a YAML file) is required");
+  if (calibration_file.empty())
+    throw std::invalid_argument("~calibration (a YAML file) is required");
   calibration_ = flagella::control::loadCalibration(calibration_file);
   gains_.lookahead = param(pnh, "lookahead", gains_.lookahead);
   gains_.cross_track_integral = param(pnh, "cross_track_integral", gains_.cross_track_integral);
@@ -53,11 +53,7 @@ PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   gains_.sensor_fault_timeout = param(pnh, "sensor_fault_timeout", gains_.sensor_fault_timeout);
   gains_.finish_tolerance = param(pnh, "finish_tolerance", gains_.finish_tolerance);
   gains_.validate();
-  const double status_rate = param(pnh, "status_rate", 5.0);
-  if (!(status_rate > 0.0 && status_rate <= 1000.0))
-    throw std::invalid_argument("~status_rate must be in (0, 1000] Hz, got " +
-                                std::to_string(status_rate));
-  status_period_ = 1.0 / status_rate;
+  status_period_ = statusPeriod(pnh);
   exit_when_finished_ = param(pnh, "exit_when_finished", false);
   linger_ = param(pnh, "linger", 1.0);
 
@@ -98,7 +94,8 @@ void PathFollowerNode::onPath(const nav_msgs::Path& msg) {
     flagella::control::PathSpec spec;
     spec.path = flagella::control::Path::polyline(points, false);
     spec.frame = flagella::control::PathFrame::World;
-    spec.description = "nav_msgs/Path of " + std::to_string(points.size()) + " points (world frame)";
+    spec.description =
+        "nav_msgs/Path of " + std::to_string(points.size()) + " points (world frame)";
     build(std::move(spec));
   } catch (const std::exception& e) {
     ROS_ERROR("flagella_path_follower: path rejected: %s", e.what());
@@ -114,21 +111,8 @@ void PathFollowerNode::onCameraFix(const geometry_msgs::PointStamped& msg) {
 
 void PathFollowerNode::onImu(const sensor_msgs::Imu& msg) {
   if (!controller_) return;
-  inputs_.time = msg.header.stamp.toSec();
-  const auto& q = msg.orientation;
-  inputs_.imu_valid = std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z) &&
-                      std::isfinite(q.w) && msg.orientation_covariance[0] >= 0.0;
-  inputs_.orientation[0] = q.x;
-  inputs_.orientation[1] = q.y;
-  inputs_.orientation[2] = q.z;
-  inputs_.orientation[3] = q.w;
-  inputs_.angular_velocity[0] = msg.angular_velocity.x;
-  inputs_.angular_velocity[1] = msg.angular_velocity.y;
-  inputs_.angular_velocity[2] = msg.angular_velocity.z;
-  inputs_.position_valid = fix_pending_;  // the latest fix, on this step only
-  fix_pending_ = false;
-  const ControllerOutputs out = controller_->step(inputs_);
-  inputs_.position_valid = false;
+  imuToInputs(msg, inputs_);
+  const ControllerOutputs out = stepWithLatestFix(*controller_, inputs_, fix_pending_);
 
   flagella_msgs::MotorCommand command;
   command.header.stamp = msg.header.stamp;  // lockstep: answers the IMU sample of this stamp

@@ -24,17 +24,29 @@ void SteeringGains::validate() const {
   requireInRange(kContext, "tilt_filter_time", tilt_filter_time, 0.0, 60.0);
   requireInRange(kContext, "turn_threshold", turn_threshold, 1e-3, M_PI / 2);
   requireInRange(kContext, "large_turn", large_turn, turn_threshold, M_PI);
+  requireInRange(kContext, "blocked_turn", blocked_turn, turn_threshold, large_turn);
   requireInRange(kContext, "flip_elevation", flip_elevation, 0.35, 1.50);
-  requireInRange(kContext, "flip_exit", flip_exit, turn_threshold, large_turn);
+  requireInRange(kContext, "top_margin", top_margin, 0.01, 0.5);
+  requireInRange(kContext, "lean_filter_time", lean_filter_time, 0.0, 30.0);
+  requireInRange(kContext, "exit_window", exit_window, 0.01, M_PI);
+  requireInRange(kContext, "exit_delay", exit_delay, 0.0, 60.0);
+  requireInRange(kContext, "sweep_filter_time", sweep_filter_time, 0.0, 600.0);
+  requireInRange(kContext, "max_turn_time", max_turn_time, 1.0, 3600.0);
+  requireInRange(kContext, "descent_holdoff", descent_holdoff, 0.0, 600.0);
   requireInRange(kContext, "tilt_mode_threshold", tilt_mode_threshold, 0.0, M_PI);
   requireInRange(kContext, "phase_window", phase_window, 0.01, M_PI);
   requireInRange(kContext, "min_turn_share", min_turn_share, 0.0, 1.0);
   requireInRange(kContext, "settle_time", settle_time, 0.0, 600.0);
   requireInRange(kContext, "max_elevation", max_elevation, 0.0, flip_elevation);
   requireInRange(kContext, "tilt_time_constant", tilt_time_constant, 0.1, 600.0);
+  requireInRange(kContext, "max_pitch_rate", max_pitch_rate, 1e-3, 10.0);
   requireInRange(kContext, "tilt_integral_time", tilt_integral_time, 0.1, 1e4);
   requireInRange(kContext, "slider_margin", slider_margin, 0.0, 0.01);
   requireInRange(kContext, "fix_gain", fix_gain, 0.0, 1.0);
+  requireInRange(kContext, "course_filter_time", course_filter_time, 0.0, 600.0);
+  requireInRange(kContext, "crab_filter_time", crab_filter_time, 0.0, 3600.0);
+  requireInRange(kContext, "max_crab", max_crab, 0.0, M_PI);
+  requireInRange(kContext, "min_course_speed", min_course_speed, 0.0, 10.0);
   requireInRange(kContext, "imu_timeout", imu_timeout, 1e-3, 60.0);
   requireInRange(kContext, "fix_timeout", fix_timeout, 1e-3, 1e4);
   requireInRange(kContext, "sensor_fault_timeout", sensor_fault_timeout, imu_timeout, 1e4);
@@ -77,7 +89,12 @@ void MassTransformerController::reset() {
   last_motor_ = 0.0;
   last_slider_ = calibration_.park_position;
   position_ = Vec3::Zero();
-  direction_ = direction_stage_ = Vec3::UnitX();
+  direction_ = direction_stage_ = lean_ = Vec3::UnitX();
+  holdoff_until_ = 0.0;
+  top_since_ = lean_azimuth_ = sweep_rate_ = 0.0;
+  last_fix_ = course_velocity_ = Vec3::Zero();
+  has_fix_ = false;
+  flip_sign_ = 1.0;
   elevation_ = roll_ = shaft_ = 0.0;
   wanted_ = Vec3::UnitX();
   slider_integral_ = 0.0;
@@ -96,13 +113,15 @@ ControllerOutputs MassTransformerController::output(double motor, double slider,
 
 void MassTransformerController::anchor(const ControllerInputs& in) {
   const HeadAttitude attitude = attitudeFromQuaternion(in.orientation);
-  direction_ = direction_stage_ = attitude.forward;
+  direction_ = direction_stage_ = lean_ = attitude.forward;
+  lean_azimuth_ = azimuthOf(lean_);
   roll_ = attitude.roll;
   const double a = travelElevationFromAcceleration(in.linear_acceleration, kMinGravityReading);
   elevation_ = std::isfinite(a) ? a : elevationOf(attitude.forward);
   if (in.position_valid) {
-    position_ = Vec3(in.position[0], in.position[1], in.position[2]);
+    position_ = last_fix_ = Vec3(in.position[0], in.position[1], in.position[2]);
     last_fix_time_ = in.time;
+    has_fix_ = true;
   }
   const double azimuth = azimuthOf(attitude.forward);
   for (std::size_t i = 0; i < world_points_.size(); ++i)  // sized at construction
@@ -119,10 +138,12 @@ void MassTransformerController::estimate(const ControllerInputs& in, double dt) 
   // Position: dead reckoning at the calibrated speed (scaled by the rate below the threshold,
   // 0 when stopped), then the camera fix.
   const double rate = std::min(std::abs(last_motor_), calibration_.cruise_omega);
-  position_ += calibration_.cruise_speed * (rate / calibration_.cruise_omega) * dt * direction_;
+  const Vec3 travel = directionFrom(azimuthOf(direction_) + status_.crab, elevationOf(direction_));
+  position_ += calibration_.cruise_speed * (rate / calibration_.cruise_omega) * dt * travel;
   if (in.position_valid) {
-    position_ +=
-        gains_.fix_gain * (Vec3(in.position[0], in.position[1], in.position[2]) - position_);
+    const Vec3 fix(in.position[0], in.position[1], in.position[2]);
+    position_ += gains_.fix_gain * (fix - position_);
+    learnCrab(fix, in.time);
     last_fix_time_ = in.time;
   }
   if (in.imu_valid) {
@@ -130,6 +151,15 @@ void MassTransformerController::estimate(const ControllerInputs& in, double dt) 
     const double k = blend(dt, gains_.heading_filter_time);
     direction_stage_ = (direction_stage_ + k * (attitude.forward - direction_stage_)).normalized();
     direction_ = (direction_ + k * (direction_stage_ - direction_)).normalized();
+    lean_ = (lean_ + blend(dt, gains_.lean_filter_time) * (attitude.forward - lean_)).normalized();
+    const double azimuth = azimuthOf(lean_);
+    if (dt > 0.0)
+      sweep_rate_ += blend(dt, gains_.sweep_filter_time) *
+                     (wrapAngle(azimuth - lean_azimuth_) / dt - sweep_rate_);
+    lean_azimuth_ = azimuth;
+    // Over the vertical and while falling back from it, the slow direction filter lags the
+    // turn: it follows the lean.
+    if (status_.flipping || in.time < holdoff_until_) direction_ = direction_stage_ = lean_;
     roll_ = attitude.roll;
     last_imu_time_ = in.time;
     const double a = travelElevationFromAcceleration(in.linear_acceleration, kMinGravityReading);
@@ -139,7 +169,28 @@ void MassTransformerController::estimate(const ControllerInputs& in, double dt) 
   status_.fix_stale = in.time - last_fix_time_ > gains_.fix_timeout;
 }
 
-void MassTransformerController::guide() {
+void MassTransformerController::learnCrab(const Vec3& fix, double time) {
+  // Course over ground from the fixes' velocity; the crab angle is its azimuth minus the head
+  // axis's, learnt while cruising near level (not during or just after a turn at elevation).
+  const double dt = time - last_fix_time_;
+  if (has_fix_ && dt > 0.0) {
+    course_velocity_ +=
+        blend(dt, gains_.course_filter_time) * ((fix - last_fix_) / dt - course_velocity_);
+    const Vec3 horizontal(course_velocity_.x(), course_velocity_.y(), 0.0);
+    const bool cruising = !status_.flipping && time >= holdoff_until_ &&
+                          std::abs(elevation_) < gains_.max_elevation + gains_.top_margin;
+    if (cruising && horizontal.norm() > gains_.min_course_speed * calibration_.cruise_speed) {
+      const double crab = wrapAngle(azimuthOf(horizontal) - azimuthOf(direction_));
+      status_.crab = std::clamp(
+          status_.crab + blend(dt, gains_.crab_filter_time) * wrapAngle(crab - status_.crab),
+          -gains_.max_crab, gains_.max_crab);
+    }
+  }
+  last_fix_ = fix;
+  has_fix_ = true;
+}
+
+void MassTransformerController::guide(double time) {
   const int count = static_cast<int>(world_points_.size());
   while (status_.waypoint < count &&
          (world_points_[status_.waypoint] - position_).norm() <= mission_.tolerance) {
@@ -150,22 +201,36 @@ void MassTransformerController::guide() {
   const Vec3 to_go = world_points_[status_.waypoint] - position_;
   status_.distance = to_go.norm();
   wanted_ = to_go / status_.distance;
-  status_.azimuth_error = wrapAngle(azimuthOf(wanted_) - azimuthOf(direction_));
+  status_.azimuth_error = wrapAngle(azimuthOf(wanted_) - azimuthOf(direction_) - status_.crab);
   const double leg_elevation =
       std::clamp(elevationOf(wanted_), -gains_.max_elevation, gains_.max_elevation);
-  // A turn over the vertical starts beyond `large_turn` (or beyond `flip_exit` toward a side
-  // buckle cycles cannot turn to) and ends within `flip_exit`.
+  // A turn over the vertical starts beyond `large_turn` (or beyond `blocked_turn` toward a side
+  // buckle cycles cannot turn to), not while falling back from the last one.
   const double abs_error = std::abs(status_.azimuth_error);
   const int side = status_.azimuth_error > 0.0 ? 1 : -1;
   status_.turn_possible = turnPossible(side);
-  if (!status_.flipping &&
-      (abs_error > gains_.large_turn || (!status_.turn_possible && abs_error > gains_.flip_exit)))
+  if (!status_.flipping && time >= holdoff_until_ &&
+      (abs_error > gains_.large_turn ||
+       (!status_.turn_possible && abs_error > gains_.blocked_turn))) {
     status_.flipping = true;
-  if (status_.flipping && abs_error < gains_.flip_exit) status_.flipping = false;
-  // Over the top unless the leg clearly dives.
-  const double flip =
-      leg_elevation < -gains_.tilt_mode_threshold ? -gains_.flip_elevation : gains_.flip_elevation;
-  status_.target_elevation = status_.flipping ? flip : leg_elevation;
+    ++status_.flips;
+    // Over the top unless the leg clearly dives; kept for the whole turn.
+    flip_sign_ = leg_elevation < -gains_.tilt_mode_threshold ? -1.0 : 1.0;
+  }
+  // At elevation: pitch back down once the direction of travel points the wanted way.
+  const bool was_at_top = status_.at_top;
+  status_.at_top =
+      status_.flipping && std::abs(elevation_) > gains_.flip_elevation - gains_.top_margin;
+  if (status_.at_top && !was_at_top) top_since_ = time;
+  const double predicted = lean_azimuth_ + sweep_rate_ * gains_.exit_delay + status_.crab;
+  const bool pointing = std::abs(wrapAngle(azimuthOf(wanted_) - predicted)) < gains_.exit_window;
+  const bool too_long = status_.at_top && time - top_since_ > gains_.max_turn_time;
+  if (status_.at_top && (pointing || too_long)) {
+    status_.flipping = status_.at_top = false;
+    holdoff_until_ = time + gains_.descent_holdoff;
+    if (!pointing) ++status_.gave_up;
+  }
+  status_.target_elevation = status_.flipping ? flip_sign_ * gains_.flip_elevation : leg_elevation;
 }
 
 bool MassTransformerController::turnPossible(int side) const {
@@ -180,13 +245,10 @@ double MassTransformerController::motorCommand(double time) {
     status_.in_cycle = false;
     next_cycle_allowed_ = time + gains_.settle_time;
   }
-  // Buckle cycles steer the azimuth; during a turn over the vertical only near its elevation.
-  const bool wants_turn =
-      std::abs(status_.azimuth_error) > gains_.turn_threshold &&
-      (!status_.flipping || std::abs(elevation_) > gains_.flip_elevation - 0.17);
-  // +1: left (toward w). Over the vertical, the long way round when only that side can turn.
-  int side = status_.azimuth_error > 0.0 ? 1 : -1;
-  if (status_.flipping && !turnPossible(side)) side = -side;
+  // Buckle cycles steer the azimuth, not during a turn over the vertical or the fall from it.
+  const bool wants_turn = std::abs(status_.azimuth_error) > gains_.turn_threshold &&
+                          !status_.flipping && time >= holdoff_until_;
+  const int side = status_.azimuth_error > 0.0 ? 1 : -1;  // +1: left (toward w)
   if (wants_turn && turnPossible(side) && !status_.imu_stale && time >= next_cycle_allowed_) {
     // Start when this phase gives a turn to the wanted side within the window of the best.
     double up = 0.0, left = 0.0;
@@ -209,8 +271,10 @@ double MassTransformerController::sliderCommand(double dt) {
   if (status_.imu_stale) return last_slider_;  // no tilt: hold
   const double error = status_.target_elevation - elevation_;
   const double k = calibration_.pitch_rate_per_slider *
-                   std::max(std::cos(elevation_), kMinCosElevation);    // [rad/s per m]
-  const double proportional = error / (k * gains_.tilt_time_constant);  // [m]
+                   std::max(std::cos(elevation_), kMinCosElevation);  // [rad/s per m]
+  // [m]; no more than the offset that pitches at max_pitch_rate.
+  const double limit = gains_.max_pitch_rate / k;
+  const double proportional = std::clamp(error / (k * gains_.tilt_time_constant), -limit, limit);
   const double increment = proportional * dt / gains_.tilt_integral_time;
   const double unclamped = calibration_.park_position + proportional + slider_integral_;
   // Anti-windup: integrate only while the output is inside the travel or the step moves it in.
@@ -239,7 +303,7 @@ ControllerOutputs MassTransformerController::step(const ControllerInputs& in) {
     last_motor_ = 0.0;
     return output(0.0, calibration_.park_position, ControllerMode::Fault);
   }
-  guide();
+  guide(in.time);
   if (status_.waypoint >= static_cast<int>(world_points_.size())) {
     status_.mode = SteeringMode::Finished;
     status_.message = "all waypoints reached";
@@ -253,7 +317,9 @@ ControllerOutputs MassTransformerController::step(const ControllerInputs& in) {
   if (status_.flipping ||
       std::abs(status_.target_elevation - elevation_) > gains_.tilt_mode_threshold) {
     status_.mode = SteeringMode::MassTransformer;
-    status_.message = status_.flipping ? "turning over the vertical" : "changing elevation";
+    status_.message = status_.at_top     ? "turning at elevation until the azimuth points the way"
+                      : status_.flipping ? "pitching to turn at elevation"
+                                         : "changing elevation";
   } else if (status_.in_cycle || std::abs(status_.azimuth_error) > gains_.turn_threshold) {
     status_.mode = SteeringMode::BuckleTurn;
     status_.message = status_.in_cycle ? "buckle cycle" : "waiting for the flagellum's phase";

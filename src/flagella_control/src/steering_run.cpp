@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -55,6 +56,15 @@ std::string jsonNumber(double x) {
 }
 
 }  // namespace
+
+std::string jsonEscaped(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += (c == '\n' || c == '\t') ? ' ' : c;
+  }
+  return out;
+}
 
 std::vector<std::string> modelErrorOverrides(
     const std::string& config_path, const std::vector<std::string>& overrides,
@@ -112,26 +122,38 @@ flagella::SessionOptions steeringSessionOptions(const flagella::SimulationConfig
   return o;
 }
 
-SteeringRunResult runSteering(const flagella::SimulationConfig& config,
-                              const flagella::SessionOptions& session_options,
-                              MassTransformerController& controller, double max_duration,
-                              double sample_interval) {
+namespace {
+
+// What a scored run needs to know of the controller it drives.
+struct RunView {
+  std::function<SteeringMode()> mode;
+  std::function<void(SteeringSample&)> annotate;  // the controller's estimates
+  std::function<long()> cycles;
+};
+
+// Steps the session with `core` until it finishes or faults, scoring the true head path against
+// `waypoints` (known once `mode` leaves Waiting; `waypoints_of` reads them then).
+SteeringRunResult runScored(const flagella::SimulationConfig& config,
+                            const flagella::SessionOptions& session_options, ControllerCore& core,
+                            const std::function<std::vector<Vec3>()>& waypoints_of,
+                            double tolerance, double max_duration, double sample_interval,
+                            const RunView& view) {
   flagella::SimSession session(config, session_options);
-  LcmHarness harness(session, controller, HarnessOptions{});
+  LcmHarness harness(session, core, HarnessOptions{});
   SteeringRunResult result;
   double next_sample = 0.0;
   std::vector<double> miss;
   SteeringMode last_mode = SteeringMode::Waiting;
   const auto after_step = [&]() {
-    const SteeringStatus& status = controller.status();
-    if (status.mode != last_mode) {
-      result.modes.emplace_back(session.time(), status.mode);
-      last_mode = status.mode;
+    const SteeringMode mode = view.mode();
+    if (mode != last_mode) {
+      result.modes.emplace_back(session.time(), mode);
+      last_mode = mode;
     }
-    if (status.mode == SteeringMode::Waiting) return;
+    if (mode == SteeringMode::Waiting) return;
     const flagella::RodSnapshot s = session.snapshot();
     if (miss.empty()) {
-      result.waypoints = controller.waypoints();
+      result.waypoints = waypoints_of();
       miss.assign(result.waypoints.size(), std::numeric_limits<double>::infinity());
     }
     for (std::size_t i = 0; i < miss.size(); ++i)
@@ -141,28 +163,75 @@ SteeringRunResult runSteering(const flagella::SimulationConfig& config,
       SteeringSample sample;
       sample.time = session.time();
       sample.position = s.head_position;
-      sample.estimate = controller.estimatedPosition();
+      sample.estimate = s.head_position;
+      sample.forward = -(s.head_orientation * Vec3::UnitZ());
+      sample.estimated_forward = sample.forward;
+      if (view.annotate) view.annotate(sample);
       sample.motor = session.health().motor_applied;
       sample.slider = session.health().slider_position;
-      sample.mode = status.mode;
+      sample.mode = mode;
       result.samples.push_back(sample);
     }
-    if (status.mode == SteeringMode::Finished || status.mode == SteeringMode::Fault)
-      harness.requestStop();
+    if (mode == SteeringMode::Finished || mode == SteeringMode::Fault) harness.requestStop();
   };
   const HarnessReport report = harness.run(max_duration, after_step);
-  result.total = static_cast<int>(controller.waypoints().size());
+  result.total = static_cast<int>(result.waypoints.size());
+  result.tolerance = tolerance;
   result.miss = miss;
   for (double m : miss) {
     result.max_miss = std::max(result.max_miss, m);
-    if (m <= controller.mission().tolerance) ++result.reached;
+    if (m <= tolerance) ++result.reached;
   }
-  result.finished = controller.status().mode == SteeringMode::Finished;
+  result.finished = last_mode == SteeringMode::Finished;
   result.time = report.sim_time;
   result.wall_seconds = report.wall_seconds;
   result.halted = report.halted;
-  result.cycles = controller.status().cycles;
+  if (report.halted) result.halt_reason = session.health().message;
+  result.cycles = view.cycles ? view.cycles() : 0;
   return result;
+}
+
+}  // namespace
+
+SteeringRunResult runSteering(const flagella::SimulationConfig& config,
+                              const flagella::SessionOptions& session_options,
+                              MassTransformerController& controller, double max_duration,
+                              double sample_interval, std::vector<RecordedCommand>* recorded) {
+  RunView view;
+  view.mode = [&]() { return controller.status().mode; };
+  view.cycles = [&]() { return controller.status().cycles; };
+  view.annotate = [&](SteeringSample& sample) {
+    const SteeringStatus& status = controller.status();
+    sample.estimate = controller.estimatedPosition();
+    sample.estimated_forward = controller.estimatedDirection();
+    sample.azimuth_error = status.azimuth_error;
+    sample.elevation = status.elevation;
+    sample.target_elevation = status.target_elevation;
+  };
+  const auto waypoints = [&]() { return controller.waypoints(); };
+  const double tolerance = controller.mission().tolerance;
+  if (!recorded)
+    return runScored(config, session_options, controller, waypoints, tolerance, max_duration,
+                     sample_interval, view);
+  const double rate = session_options.imu.rate > 0.0 ? session_options.imu.rate : 100.0;
+  CommandRecorder recorder(controller, static_cast<std::size_t>(max_duration * rate) + 16);
+  SteeringRunResult result = runScored(config, session_options, recorder, waypoints, tolerance,
+                                       max_duration, sample_interval, view);
+  *recorded = recorder.commands();
+  return result;
+}
+
+SteeringRunResult runOpenLoop(const flagella::SimulationConfig& config,
+                              const flagella::SessionOptions& session_options,
+                              const std::vector<RecordedCommand>& commands, double rest_slider,
+                              const std::vector<Vec3>& waypoints, double tolerance,
+                              double max_duration, double sample_interval) {
+  CommandReplayController replay(commands, rest_slider);
+  RunView view;
+  view.mode = [&]() { return replay.finished() ? SteeringMode::Finished : SteeringMode::Cruise; };
+  return runScored(
+      config, session_options, replay, [&]() { return waypoints; }, tolerance, max_duration,
+      sample_interval, view);
 }
 
 std::string steeringResultJson(const SteeringRunResult& r, const std::string& controller,
@@ -170,12 +239,14 @@ std::string steeringResultJson(const SteeringRunResult& r, const std::string& co
   std::ostringstream j;
   j << "{\n  \"controller\": \"" << controller << "\",\n  \"mission\": \"" << mission << "\",\n";
   j << "  \"reached\": " << r.reached << ",\n  \"total\": " << r.total << ",\n";
+  j << "  \"tolerance_mm\": " << jsonNumber(r.tolerance * 1e3) << ",\n";
   j << "  \"max_miss_mm\": " << jsonNumber(r.max_miss * 1e3) << ",\n";
   j << "  \"miss_mm\": [";
   for (std::size_t i = 0; i < r.miss.size(); ++i)
     j << (i ? ", " : "") << jsonNumber(r.miss[i] * 1e3);
   j << "],\n  \"finished\": " << (r.finished ? "true" : "false") << ",\n";
   j << "  \"halted\": " << (r.halted ? "true" : "false") << ",\n";
+  if (r.halted) j << "  \"halt_reason\": \"" << jsonEscaped(r.halt_reason) << "\",\n";
   j << "  \"time_s\": " << jsonNumber(r.time) << ",\n  \"wall_s\": " << jsonNumber(r.wall_seconds)
     << ",\n  \"buckle_cycles\": " << r.cycles << ",\n  \"modes\": [";
   for (std::size_t i = 0; i < r.modes.size(); ++i)
@@ -187,6 +258,22 @@ std::string steeringResultJson(const SteeringRunResult& r, const std::string& co
       << jsonNumber(r.waypoints[i].y()) << ", " << jsonNumber(r.waypoints[i].z()) << "]";
   j << "]\n}\n";
   return j.str();
+}
+
+std::string steeringPathCsv(const SteeringRunResult& result) {
+  std::ostringstream csv;
+  csv.precision(8);
+  csv << "time,x,y,z,est_x,est_y,est_z,motor,slider,mode,fx,fy,fz,est_fx,est_fy,est_fz,"
+         "azimuth_error,elevation,target_elevation\n";
+  for (const SteeringSample& s : result.samples) {
+    csv << s.time << "," << s.position.x() << "," << s.position.y() << "," << s.position.z() << ","
+        << s.estimate.x() << "," << s.estimate.y() << "," << s.estimate.z() << "," << s.motor << ","
+        << s.slider << "," << steeringModeName(s.mode);
+    for (const Vec3* v : {&s.forward, &s.estimated_forward})
+      csv << "," << v->x() << "," << v->y() << "," << v->z();
+    csv << "," << s.azimuth_error << "," << s.elevation << "," << s.target_elevation << "\n";
+  }
+  return csv.str();
 }
 
 }  // namespace flagella::control

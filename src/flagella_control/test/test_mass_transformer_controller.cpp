@@ -4,6 +4,9 @@
 // under the slider (docs/model.md 5: the couple is proportional to l cos(elevation)), the head
 // rolls at a constant rate, the robot advances at the cruise speed; the IMU reports the head frame
 // (m1, m2, t = -f), the accelerometer gravity in the head frame, the camera the position at 1 Hz.
+// Above 45 deg of elevation the azimuth precesses at `top_rate` while the motor turns, for
+// `top_duration` after each pitch-up, and the robot's course runs `crab` to the left of its head
+// axis (docs/model.md 7.4: what the simulator shows).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -57,6 +60,10 @@ fc::WaypointMission mission(const std::vector<Vec3>& points, double tolerance = 
 struct Plant {
   Vec3 forward = Vec3::UnitX(), position = Vec3::Zero();
   double roll = 0.0, roll_rate = -0.6, slider = -1e-3, slider_error = 0.0;
+  double top_rate = -0.05;    // [rad/s] above 45 deg
+  double top_duration = 1e9;  // [s] after each pitch-up
+  double time_high = 0.0;     // [s] since the pitch-up
+  double crab = 0.0;          // [rad], course minus axis azimuth
   fc::SteeringCalibration truth = calibration();
   fc::BuckleScheduleKind kind = fc::BuckleScheduleKind::Relax;
   double shaft = 0.0, cycle_left = -1.0, turn_up = 0.0, turn_left = 0.0, time = 0.0;
@@ -90,6 +97,8 @@ struct Plant {
     const fc::BuckleSchedule& s = truth.schedule(kind);
     // A cycle starts when the rate jumps to the schedule's first level; its turn is applied at
     // its end, as the calibrated model predicts from the phase at the start.
+    const bool high = std::abs(fc::elevationOf(forward)) > 45 * kDeg;
+    time_high = high ? time_high + dt : 0.0;
     if (cycle_left < 0.0 && last_motor == truth.cruise_omega &&
         out.motor_command != truth.cruise_omega && out.motor_command > 0.0) {
       s.predictedTurn(roll, shaft, turn_up, turn_left);
@@ -111,10 +120,13 @@ struct Plant {
     const double pitch_rate = truth.pitch_rate_per_slider *
                               (slider - truth.park_position + slider_error) * std::cos(elevation);
     const double new_elevation = std::clamp(elevation + pitch_rate * dt, -1.55, 1.55);
-    forward = fc::directionFrom(fc::azimuthOf(forward), new_elevation);
+    const double precession =
+        high && time_high < top_duration && out.motor_command > 0.0 ? top_rate * dt : 0.0;
+    forward = fc::directionFrom(fc::azimuthOf(forward) + precession, new_elevation);
     const double speed =
         truth.cruise_speed * std::min(out.motor_command, truth.cruise_omega) / truth.cruise_omega;
-    position += speed * dt * forward;
+    position +=
+        speed * dt * fc::directionFrom(fc::azimuthOf(forward) + crab, fc::elevationOf(forward));
     roll = fc::wrapAngle(roll + roll_rate * dt);
     time += dt;
     ++steps;
@@ -166,7 +178,9 @@ TEST(MassTransformerController, BothBuckleSchedulesDriveTheirLevels) {
     gains.schedule = kind;
     const fc::SteeringCalibration cal = calibration();
     const fc::BuckleSchedule& s = cal.schedule(kind);
-    fc::MassTransformerController controller(mission({Vec3(0.5, 0.5, 0.0)}), cal, gains);
+    // 25 deg left: buckle turns (a turn over the vertical starts beyond large_turn).
+    fc::MassTransformerController controller(mission({Vec3(0.5, 0.5 * std::tan(25 * kDeg), 0.0)}),
+                                             cal, gains);
     Plant plant;
     plant.kind = kind;
     std::vector<double> motor;
@@ -213,14 +227,59 @@ TEST(MassTransformerController, CyclesStartAtThePhaseThatTurnsTheWantedWay) {
   }
 }
 
-TEST(MassTransformerController, ASideTheCyclesCannotTurnToGoesOverTheVertical) {
+TEST(MassTransformerController, ASideTheCyclesCannotTurnToIsTurnedAtElevation) {
   fc::SteeringCalibration cal = calibration();
   cal.relax.bias_left = -5 * kDeg;  // every cycle turns right by 1 to 9 deg
-  fc::MassTransformerController controller(mission({Vec3(0.5, 0.5, 0.0)}), cal);
+  fc::SteeringGains gains;
+  gains.blocked_turn = 0.3;  // a 45 deg left error is beyond it
+  fc::MassTransformerController controller(mission({Vec3(0.5, 0.5, 0.0)}), cal, gains);
   Plant plant;
+  plant.top_rate = 0.05;  // precesses left at elevation
   run(controller, plant, 1.0);
   EXPECT_FALSE(controller.status().turn_possible);
   EXPECT_TRUE(controller.status().flipping);
+  // The robot pitches up, precesses to 45 deg left, and pitches back down.
+  bool reached_top = false;
+  for (int k = 0; k < 400 && controller.status().flipping; ++k) {
+    run(controller, plant, 1.0);
+    reached_top = reached_top || controller.status().at_top;
+  }
+  EXPECT_TRUE(reached_top);
+  EXPECT_FALSE(controller.status().flipping);
+  run(controller, plant, 60.0);
+  EXPECT_EQ(controller.status().flips, 1);
+  EXPECT_LT(std::abs(fc::elevationOf(plant.forward)), 10 * kDeg);
+  // Within the exit window, plus the precession during the first degrees of the descent.
+  EXPECT_NEAR(fc::azimuthOf(plant.forward), 45 * kDeg, controller.gains().exit_window + 0.15);
+}
+
+TEST(MassTransformerController, AWaypointBehindIsReachedByATurnAtElevationEitherWay) {
+  struct Case {
+    double rate, duration;
+    const char* what;
+  };
+  for (const Case& c : {Case{-0.05, 1e9, "precessing right"}, Case{0.04, 1e9, "precessing left"},
+                        Case{-0.05, 40.0, "precessing right for 40 s per pitch-up"}}) {
+    fc::MassTransformerController controller(mission({Vec3(-0.03, 0.01, 0.0)}, 0.006),
+                                             calibration());
+    Plant plant;
+    plant.top_rate = c.rate;
+    plant.top_duration = c.duration;
+    double closest = 1.0;
+    for (long k = 0; k < 900 * kRate && controller.status().mode != fc::SteeringMode::Finished;
+         ++k) {
+      plant.apply(controller.step(plant.sense()));
+      closest = std::min(closest, (plant.position - controller.waypoints()[0]).norm());
+    }
+    EXPECT_EQ(controller.status().mode, fc::SteeringMode::Finished)
+        << c.what << ": " << controller.status().message;
+    EXPECT_GE(controller.status().flips, 1) << c.what;
+    // 2 rad per pitch-up against 3.5 rad the long way round: it gives up once and goes again.
+    if (c.duration < 1e9) {
+      EXPECT_GE(controller.status().flips, 2) << c.what;
+    }
+    EXPECT_LT(closest, 0.009) << c.what;
+  }
 }
 
 TEST(MassTransformerController, SliderStopsAtTheTargetTiltAndFindsAnUnknownOffset) {
@@ -285,6 +344,25 @@ TEST(MassTransformerController, ReachesWaypointsWithTheRightModel) {
   }
   EXPECT_EQ(controller.status().mode, fc::SteeringMode::Finished) << controller.status().message;
   for (int i = 0; i < 3; ++i) EXPECT_LT(closest[i], 0.0075) << "waypoint " << i;
+}
+
+TEST(MassTransformerController, LearnsTheCrabAngleFromTheFixesAndSteersTheCourse) {
+  // The course runs 25 deg right of the head axis: the controller learns the offset from the
+  // camera fixes, points the axis left of the waypoint, and reaches it.
+  const double crab = -25 * kDeg;
+  fc::MassTransformerController controller(mission({Vec3(0.12, 0.0, 0.0)}, 0.005), calibration());
+  Plant plant;
+  plant.crab = crab;
+  double closest = 1.0;
+  for (long k = 0; k < 900 * kRate && controller.status().mode != fc::SteeringMode::Finished; ++k) {
+    plant.apply(controller.step(plant.sense()));
+    closest = std::min(closest, (plant.position - controller.waypoints()[0]).norm());
+    if (k == static_cast<long>(150 * kRate)) {
+      EXPECT_NEAR(controller.status().crab, crab, 5 * kDeg) << "after 150 s";
+    }
+  }
+  EXPECT_EQ(controller.status().mode, fc::SteeringMode::Finished) << controller.status().message;
+  EXPECT_LT(closest, 0.0075);
 }
 
 TEST(MassTransformerController, StepDoesNotAllocate) {

@@ -74,6 +74,7 @@ int main(int argc, char** argv) {
         mission.tolerance * 1e3, result.max_miss * 1e3,
         result.finished ? "finished" : "NOT finished", result.time, result.wall_seconds,
         result.cycles);
+    if (result.halted) std::fprintf(stderr, "simulator halted: %s\n", result.halt_reason.c_str());
     if (!json_path.empty()) {
       std::ofstream json(json_path);
       json << flagella::control::steeringResultJson(result, controller.name(), mission.description);
@@ -81,12 +82,7 @@ int main(int argc, char** argv) {
     }
     if (!csv_path.empty()) {
       std::ofstream csv(csv_path);
-      csv << "time,x,y,z,est_x,est_y,est_z,motor,slider,mode\n";
-      for (const auto& s : result.samples)
-        csv << s.time << "," << s.position.x() << "," << s.position.y() << "," << s.position.z()
-            << "," << s.estimate.x() << "," << s.estimate.y() << "," << s.estimate.z() << ","
-            << s.motor << "," << s.slider << "," << flagella::control::steeringModeName(s.mode)
-            << "\n";
+      csv << flagella::control::steeringPathCsv(result);
       if (!csv) throw std::runtime_error("cannot write " + csv_path);
     }
     return result.halted ? 3 : result.reached == result.total ? 0 : 4;

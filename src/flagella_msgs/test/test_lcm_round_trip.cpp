@@ -89,6 +89,22 @@ ControllerStatus anyControllerStatus() {
   m.message = anyString();
   return m;
 }
+SteeringStatus anySteeringStatus() {
+  SteeringStatus m;
+  m.header = anyHeader();
+  m.mode = SteeringStatus::MASS_TRANSFORMER;
+  m.mode_name = anyString();
+  m.waypoint = anyInt(), m.reached = anyInt(), m.total = anyInt();
+  m.distance = anyDouble(), m.azimuth_error = anyDouble(), m.elevation = anyDouble();
+  m.target_elevation = anyDouble();
+  m.estimated_position = anyPoint();
+  m.motor_command = anyDouble(), m.slider_command = anyDouble();
+  m.buckle_cycles = anyInt();
+  m.in_cycle = true, m.flipping = false, m.imu_stale = true, m.fix_stale = false;
+  m.slider_saturated = true;
+  m.message = anyString();
+  return m;
+}
 sensor_msgs::Imu anyImu() {
   sensor_msgs::Imu m;
   m.header = anyHeader();
@@ -154,6 +170,9 @@ TEST(LcmRoundTrip, SliderCommand) {
 }
 TEST(LcmRoundTrip, ControllerStatus) {
   expectRoundTrip<flagella_lcm::controller_status_t>(anyControllerStatus());
+}
+TEST(LcmRoundTrip, SteeringStatus) {
+  expectRoundTrip<flagella_lcm::steering_status_t>(anySteeringStatus());
 }
 TEST(LcmRoundTrip, Imu) { expectRoundTrip<flagella_lcm::imu_t>(anyImu()); }
 TEST(LcmRoundTrip, PointStamped) {
@@ -226,7 +245,8 @@ TEST(LcmSchema, TwinsHaveTheSameFieldsInTheSameOrder) {
                             {"msg/NodeGroup.msg", "lcm/node_group_t.lcm"},
                             {"msg/MotorCommand.msg", "lcm/motor_command_t.lcm"},
                             {"msg/SliderCommand.msg", "lcm/slider_command_t.lcm"},
-                            {"msg/ControllerStatus.msg", "lcm/controller_status_t.lcm"}};
+                            {"msg/ControllerStatus.msg", "lcm/controller_status_t.lcm"},
+                            {"msg/SteeringStatus.msg", "lcm/steering_status_t.lcm"}};
   for (const TwinPair& pair : pairs) {
     const std::vector<std::string> ros_fields = msgFields(root + "/" + pair.msg);
     ASSERT_GE(ros_fields.size(), 2u) << pair.msg;

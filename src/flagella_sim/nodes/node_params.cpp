@@ -12,10 +12,12 @@ namespace {
 constexpr double kMaxMotorRpm = 1e5;
 constexpr double kMaxTimeout = 1e6;  // [s]
 constexpr double kMaxNoise = 1e3;
-constexpr double kMaxImuRate = 1e4;       // [Hz]
-constexpr double kMaxSliderTravel = 1.0;  // [m]
-constexpr double kMaxCameraRate = 1e3;    // [Hz]
-constexpr double kMaxTime = 1e9;          // [s]
+constexpr double kMaxImuRate = 1e4;               // [Hz]
+constexpr double kMaxSliderTravel = 1.0;          // [m]
+constexpr double kMaxCameraRate = 1e3;            // [Hz]
+constexpr double kMaxTime = 1e9;                  // [s]
+constexpr double kMaxAccelerometerNoise = 10.0;   // [m/s^2], as AccelerometerOptions::validate
+constexpr double kMaxAccelerometerRate = 3200.0;  // [Hz], the ADXL345's fastest output rate
 }  // namespace
 
 double rangedParam(const ros::NodeHandle& nh, const std::string& name, double fallback, double min,
@@ -88,6 +90,21 @@ flagella::SessionOptions sessionOptionsFromParams(const ros::NodeHandle& nh) {
   seed = static_cast<int>(o.camera.seed);
   nh.param("camera_seed", seed, seed);
   o.camera.seed = static_cast<unsigned>(seed);
+  // A second camera through the tank's side: the fix carries the height z.
+  nh.param("camera_stereo", o.camera.stereo, o.camera.stereo);
+  o.camera.height_noise_std =
+      rangedParam(nh, "camera_height_noise", o.camera.height_noise_std, 0.0, kMaxNoise, "m");
+  // The head accelerometer (ADXL345-like) as the IMU message's linear acceleration.
+  nh.param("accelerometer_feeds_imu", o.accelerometer.feeds_imu, o.accelerometer.feeds_imu);
+  o.accelerometer.range_g = rangedParam(nh, "accelerometer_range_g", o.accelerometer.range_g, 2.0,
+                                        16.0, "g (2, 4, 8 or 16)");
+  o.accelerometer.noise_std = rangedParam(nh, "accelerometer_noise", o.accelerometer.noise_std, 0.0,
+                                          kMaxAccelerometerNoise, "m/s^2");
+  o.accelerometer.output_rate = rangedParam(nh, "accelerometer_rate", o.accelerometer.output_rate,
+                                            0.1, kMaxAccelerometerRate, "Hz");
+  seed = static_cast<int>(o.accelerometer.seed);
+  nh.param("accelerometer_seed", seed, seed);
+  o.accelerometer.seed = static_cast<unsigned>(seed);
   o.validate();
   return o;
 }

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "flagella_control/command_replay.h"
 #include "flagella_control/mass_transformer_controller.h"
 #include "flagella_sim/runtime/sim_session.h"
 #include "flagella_sim/simulation/simulation_config.h"
@@ -31,35 +32,57 @@ flagella::SessionOptions steeringSessionOptions(const flagella::SimulationConfig
 
 struct SteeringSample {
   double time = 0.0;
-  Vec3 position = Vec3::Zero();  ///< true head centre, output frame
-  Vec3 estimate = Vec3::Zero();  ///< the controller's estimate
-  double motor = 0.0, slider = 0.0;
+  Vec3 position = Vec3::Zero();            ///< true head centre, output frame
+  Vec3 estimate = Vec3::Zero();            ///< the controller's estimate
+  Vec3 forward = Vec3::UnitX();            ///< true direction of the head axis -t^0
+  Vec3 estimated_forward = Vec3::UnitX();  ///< the controller's direction of travel
+  double motor = 0.0, slider = 0.0;        ///< applied motor rate [rad/s], slider position [m]
+  double azimuth_error = 0.0, elevation = 0.0, target_elevation = 0.0;  ///< status [rad]
   SteeringMode mode = SteeringMode::Waiting;
 };
 
 struct SteeringRunResult {
   int reached = 0;  ///< waypoints the true path came within the tolerance of
   int total = 0;
+  double tolerance = 0.0;    ///< the mission's reach tolerance [m]
   std::vector<double> miss;  ///< closest approach of the true path per waypoint [m]
   double max_miss = 0.0;     ///< [m]
   bool finished = false;     ///< the controller declared every waypoint reached
   double time = 0.0;         ///< simulated time at the end [s]
   double wall_seconds = 0.0;
   bool halted = false;
+  std::string halt_reason;  ///< the simulator's message when it halted
   long cycles = 0;
   std::vector<std::pair<double, SteeringMode>> modes;  ///< mode changes (time, new mode)
   std::vector<SteeringSample> samples;
   std::vector<Vec3> waypoints;  ///< in the world
 };
 
-/// Runs until the controller finishes or `max_duration` of simulated time.
+/// Runs until the controller finishes or `max_duration` of simulated time. With `recorded`, the
+/// controller's commands are kept there (the open-loop schedule of runOpenLoop).
 SteeringRunResult runSteering(const flagella::SimulationConfig& config,
                               const flagella::SessionOptions& session_options,
                               MassTransformerController& controller, double max_duration,
-                              double sample_interval = 0.5);
+                              double sample_interval = 0.5,
+                              std::vector<RecordedCommand>* recorded = nullptr);
+
+/// Replays recorded commands open loop (no feedback) and scores the true path against
+/// `waypoints` (world) within `tolerance`, until the schedule ends or `max_duration`.
+SteeringRunResult runOpenLoop(const flagella::SimulationConfig& config,
+                              const flagella::SessionOptions& session_options,
+                              const std::vector<RecordedCommand>& commands, double rest_slider,
+                              const std::vector<Vec3>& waypoints, double tolerance,
+                              double max_duration, double sample_interval = 0.5);
+
+/// `text` for a JSON string: quotes and backslashes escaped, newlines and tabs as spaces.
+std::string jsonEscaped(const std::string& text);
 
 /// The result as JSON (reached, total, max_miss_mm, time_s, modes, ...).
 std::string steeringResultJson(const SteeringRunResult& result, const std::string& controller,
                                const std::string& mission);
+
+/// The sampled path as CSV: time, true and estimated position, motor, slider, mode, then the
+/// true head axis and estimated direction of travel and the status angles (the plot's input).
+std::string steeringPathCsv(const SteeringRunResult& result);
 
 }  // namespace flagella::control

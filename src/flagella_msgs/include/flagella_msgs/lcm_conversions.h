@@ -7,6 +7,7 @@
 #include <flagella_msgs/MotorCommand.h>
 #include <flagella_msgs/RodState.h>
 #include <flagella_msgs/SliderCommand.h>
+#include <flagella_msgs/SteeringStatus.h>
 #include <geometry_msgs/PointStamped.h>
 #include <sensor_msgs/Imu.h>
 
@@ -18,6 +19,7 @@
 #include <flagella_lcm/point_stamped_t.hpp>
 #include <flagella_lcm/rod_state_t.hpp>
 #include <flagella_lcm/slider_command_t.hpp>
+#include <flagella_lcm/steering_status_t.hpp>
 #include <vector>
 
 namespace flagella_msgs {
@@ -209,6 +211,44 @@ inline ControllerStatus toRos(const flagella_lcm::controller_status_t& in) {
   out.heading_error = in.heading_error;
   out.motor_command = in.motor_command;
   out.message = in.message;
+  return out;
+}
+
+// The same fields in the same order both ways (the schema test checks the order).
+template <typename To, typename From>
+void copySteeringStatusFields(const From& in, To& out) {
+  out.mode_name = in.mode_name;
+  out.waypoint = in.waypoint;
+  out.reached = in.reached;
+  out.total = in.total;
+  out.distance = in.distance;
+  out.azimuth_error = in.azimuth_error;
+  out.elevation = in.elevation;
+  out.target_elevation = in.target_elevation;
+  out.motor_command = in.motor_command;
+  out.slider_command = in.slider_command;
+  out.buckle_cycles = in.buckle_cycles;
+  out.in_cycle = in.in_cycle;
+  out.flipping = in.flipping;
+  out.imu_stale = in.imu_stale;
+  out.fix_stale = in.fix_stale;
+  out.slider_saturated = in.slider_saturated;
+  out.message = in.message;
+}
+inline flagella_lcm::steering_status_t toLcm(const SteeringStatus& in) {
+  flagella_lcm::steering_status_t out;
+  out.header = toLcm(in.header);
+  out.mode = static_cast<int8_t>(in.mode);
+  out.estimated_position = toLcm(in.estimated_position);
+  copySteeringStatusFields(in, out);
+  return out;
+}
+inline SteeringStatus toRos(const flagella_lcm::steering_status_t& in) {
+  SteeringStatus out;
+  out.header = toRos(in.header);
+  out.mode = static_cast<uint8_t>(in.mode);
+  out.estimated_position = toRos(in.estimated_position);
+  copySteeringStatusFields(in, out);
   return out;
 }
 

@@ -1,0 +1,215 @@
+// Robustness runs of the mass-transformer closed loop; see the header.
+#include "flagella_control/steering_robustness.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <mutex>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include "flagella_control/validation.h"
+#include "flagella_sim/simulation/simulation_config.h"
+
+namespace flagella::control {
+
+namespace {
+
+const char* const kContext = "robustness options";
+constexpr int kMaxJobs = 64;
+
+std::string factorsText(const std::vector<std::pair<std::string, double>>& factors) {
+  if (factors.empty()) return "nominal";
+  std::ostringstream out;
+  out.precision(3);
+  for (std::size_t i = 0; i < factors.size(); ++i)
+    out << (i ? " " : "") << factors[i].first << "x" << factors[i].second;
+  return out.str();
+}
+
+// Median of a copy.
+double median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string number(double x) {
+  if (!std::isfinite(x)) return "null";
+  std::ostringstream out;
+  out.precision(8);
+  out << x;
+  return out.str();
+}
+
+}  // namespace
+
+void RobustnessOptions::validate() const {
+  if (runs < 1 || runs > 10000)
+    throw std::invalid_argument("robustness options: runs must be in [1, 10000], got " +
+                                std::to_string(runs));
+  requireInRange(kContext, "error", error, 0.0, 0.9);
+  if (jobs < 1 || jobs > kMaxJobs)
+    throw std::invalid_argument("robustness options: jobs must be in [1, " +
+                                std::to_string(kMaxJobs) + "], got " + std::to_string(jobs));
+  requireInRange(kContext, "max_duration", max_duration, 1.0, 1e5);
+  if (keys.empty()) throw std::invalid_argument("robustness options: keys must not be empty");
+}
+
+std::vector<std::pair<std::string, double>> drawModelErrors(const RobustnessOptions& options,
+                                                            unsigned seed) {
+  std::mt19937 rng(seed);
+  std::bernoulli_distribution coin(0.5);
+  std::vector<std::pair<std::string, double>> factors;
+  for (const std::string& key : options.keys)
+    factors.emplace_back(key, coin(rng) ? 1.0 + options.error : 1.0 - options.error);
+  return factors;
+}
+
+RobustnessReport runRobustness(const RobustnessOptions& options,
+                               const SteeringCalibration& calibration,
+                               const WaypointMission& mission, const SteeringGains& gains,
+                               const std::function<void(const std::string&)>& progress) {
+  options.validate();
+  const auto wall_start = std::chrono::steady_clock::now();
+  RobustnessReport report;
+  const flagella::SimulationConfig nominal =
+      flagella::loadSimulationConfig(options.config_path, options.overrides);
+  // The open-loop schedule: the controller on the nominal model with perfect sensors.
+  flagella::SessionOptions perfect = steeringSessionOptions(nominal, calibration, 0);
+  perfect.imu.orientation_noise_std = perfect.imu.gyro_noise_std = 0.0;
+  perfect.accelerometer.noise_std = 0.0;
+  perfect.camera.noise_std = perfect.camera.height_noise_std = 0.0;
+  std::vector<RecordedCommand> schedule;
+  {
+    MassTransformerController controller(mission, calibration, gains);
+    report.reference =
+        runSteering(nominal, perfect, controller, options.max_duration, 0.5, &schedule);
+  }
+  if (progress)
+    progress(
+        "reference (nominal model, perfect sensors): " + std::to_string(report.reference.reached) +
+        " of " + std::to_string(report.reference.total) + " reached, open-loop schedule of " +
+        std::to_string(schedule.size()) + " commands");
+
+  for (int i = 0; i < options.runs; ++i) {
+    const unsigned seed = options.first_seed + static_cast<unsigned>(i);
+    if (options.nominal) report.runs.push_back({"nominal closed", seed, {}, {}, {}});
+    const auto factors = drawModelErrors(options, seed);
+    report.runs.push_back({"mismatched closed", seed, factors, {}, {}});
+    report.runs.push_back({"mismatched open", seed, factors, {}, {}});
+  }
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> done{0};
+  std::mutex print;
+  const auto worker = [&]() {
+    for (std::size_t k = next++; k < report.runs.size(); k = next++) {
+      RobustnessRun& run = report.runs[k];
+      try {
+        const flagella::SimulationConfig config = flagella::loadSimulationConfig(
+            options.config_path,
+            modelErrorOverrides(options.config_path, options.overrides, run.factors));
+        const flagella::SessionOptions sensors =
+            steeringSessionOptions(config, calibration, run.seed);
+        if (run.kind == "mismatched open") {
+          run.result =
+              runOpenLoop(config, sensors, schedule, calibration.park_position,
+                          report.reference.waypoints, mission.tolerance, options.max_duration);
+        } else {
+          MassTransformerController controller(mission, calibration, gains);
+          run.result = runSteering(config, sensors, controller, options.max_duration);
+        }
+        run.result.samples.clear();
+      } catch (const std::exception& e) {
+        run.error = e.what();
+      }
+      const int finished = ++done;
+      if (progress) {
+        char line[512];
+        std::snprintf(line, sizeof line,
+                      "[%d/%zu] %s, seed %u (%s): %d of %d reached, max miss %.1f mm, %.0f s "
+                      "simulated%s%s",
+                      finished, report.runs.size(), run.kind.c_str(), run.seed,
+                      factorsText(run.factors).c_str(), run.result.reached, run.result.total,
+                      run.result.max_miss * 1e3, run.result.time,
+                      run.result.halted ? ", simulator halted" : "",
+                      run.error.empty() ? "" : (", error: " + run.error).c_str());
+        const std::lock_guard<std::mutex> lock(print);
+        progress(line);
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  const int count = std::min<int>(options.jobs, static_cast<int>(report.runs.size()));
+  for (int j = 0; j < count; ++j) threads.emplace_back(worker);
+  for (std::thread& t : threads) t.join();
+  report.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return report;
+}
+
+std::string robustnessSummary(const RobustnessReport& report, double tolerance) {
+  std::ostringstream out;
+  char line[256];
+  std::snprintf(line, sizeof line, "%-18s %5s %9s %13s %13s %13s\n", "kind", "runs", "success",
+                "waypoints", "median miss", "worst miss");
+  out << line;
+  for (const char* kind : {"nominal closed", "mismatched closed", "mismatched open"}) {
+    int runs = 0, successes = 0, reached = 0, total = 0;
+    std::vector<double> misses;
+    for (const RobustnessRun& r : report.runs) {
+      if (r.kind != kind) continue;
+      ++runs;
+      const bool ok = r.error.empty() && r.result.total > 0 && r.result.reached == r.result.total;
+      successes += ok ? 1 : 0;
+      reached += r.result.reached;
+      total += r.result.total;
+      for (double m : r.result.miss) misses.push_back(m);
+    }
+    if (runs == 0) continue;
+    const double worst = misses.empty() ? NAN : *std::max_element(misses.begin(), misses.end());
+    std::snprintf(line, sizeof line, "%-18s %5d %8.0f%% %6d of %-4d %10.1f mm %10.1f mm\n", kind,
+                  runs, 100.0 * successes / runs, reached, total, median(misses) * 1e3,
+                  worst * 1e3);
+    out << line;
+  }
+  std::snprintf(line, sizeof line,
+                "success: every waypoint passed within %.1f mm by the true head path; misses "
+                "are closest approaches per waypoint\n",
+                tolerance * 1e3);
+  out << line;
+  return out.str();
+}
+
+std::string robustnessJson(const RobustnessReport& report, double tolerance) {
+  std::ostringstream j;
+  j << "{\n  \"tolerance_mm\": " << number(tolerance * 1e3)
+    << ",\n  \"wall_s\": " << number(report.wall_seconds)
+    << ",\n  \"reference\": {\"reached\": " << report.reference.reached
+    << ", \"total\": " << report.reference.total
+    << ", \"max_miss_mm\": " << number(report.reference.max_miss * 1e3) << "},\n  \"runs\": [";
+  for (std::size_t i = 0; i < report.runs.size(); ++i) {
+    const RobustnessRun& r = report.runs[i];
+    j << (i ? ",\n" : "\n") << "    {\"kind\": \"" << r.kind << "\", \"seed\": " << r.seed
+      << ", \"factors\": {";
+    for (std::size_t k = 0; k < r.factors.size(); ++k)
+      j << (k ? ", " : "") << "\"" << r.factors[k].first << "\": " << number(r.factors[k].second);
+    j << "}, \"reached\": " << r.result.reached << ", \"total\": " << r.result.total
+      << ", \"max_miss_mm\": " << number(r.result.max_miss * 1e3) << ", \"miss_mm\": [";
+    for (std::size_t k = 0; k < r.result.miss.size(); ++k)
+      j << (k ? ", " : "") << number(r.result.miss[k] * 1e3);
+    j << "], \"time_s\": " << number(r.result.time)
+      << ", \"halted\": " << (r.result.halted ? "true" : "false") << ", \"error\": \""
+      << jsonEscaped(r.error) << "\"}";
+  }
+  j << "\n  ]\n}\n";
+  return j.str();
+}
+
+}  // namespace flagella::control

@@ -1,0 +1,95 @@
+// Open-loop replay of recorded commands (command_replay.h), the baseline of the steering
+// robustness runs: commands come back by time, the end is reported, bad recordings are refused,
+// step() does not allocate; and a closed-loop steering run recorded on the helical robot, replayed
+// blind on the same model with the same sensors, retraces the same head path (the simulation is
+// deterministic and the replay applies every command on the same step).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "flagella_control/command_replay.h"
+#include "flagella_control/steering_run.h"
+#include "flagella_sim/simulation/simulation_config.h"
+#include "support/allocation_counter.h"
+
+namespace flagella::control {
+namespace {
+
+ControllerInputs at(double t) {
+  ControllerInputs in;
+  in.time = t;
+  in.imu_valid = true;
+  return in;
+}
+
+TEST(CommandReplay, ReturnsTheCommandRecordedAtOrBeforeEachTime) {
+  CommandReplayController replay({{0.0, 1.0, -1e-3}, {0.5, 2.0, 0.0}, {1.0, 0.0, 1e-3}}, -2e-3);
+  const double start = 10.0;  // the replay's clock starts at its first step
+  struct Expect {
+    double t, motor, slider;
+  };
+  for (const Expect& e : {Expect{0.0, 1.0, -1e-3}, Expect{0.49, 1.0, -1e-3}, Expect{0.5, 2.0, 0.0},
+                          Expect{0.99, 2.0, 0.0}, Expect{1.0, 0.0, 1e-3}}) {
+    const ControllerOutputs out = replay.step(at(start + e.t));
+    EXPECT_EQ(out.motor_command, e.motor) << "t = " << e.t;
+    EXPECT_EQ(out.slider_position, e.slider) << "t = " << e.t;
+    EXPECT_EQ(out.mode, ControllerMode::Running);
+  }
+  const ControllerOutputs after = replay.step(at(start + 1.01));
+  EXPECT_TRUE(replay.finished());
+  EXPECT_EQ(after.mode, ControllerMode::Finished);
+  EXPECT_EQ(after.motor_command, 0.0);
+  EXPECT_EQ(after.slider_position, -2e-3);
+  replay.reset();
+  EXPECT_FALSE(replay.finished());
+  EXPECT_EQ(replay.step(at(3.0)).motor_command, 1.0);
+}
+
+TEST(CommandReplay, RefusesEmptyOrUnorderedRecordings) {
+  EXPECT_THROW(CommandReplayController({}, 0.0), std::invalid_argument);
+  EXPECT_THROW(CommandReplayController({{1.0, 0.0, 0.0}, {0.5, 0.0, 0.0}}, 0.0),
+               std::invalid_argument);
+}
+
+TEST(CommandReplay, StepDoesNotAllocate) {
+  std::vector<RecordedCommand> commands;
+  for (int k = 0; k < 1000; ++k) commands.push_back({0.01 * k, 0.1 * k, 0.0});
+  CommandReplayController replay(commands, 0.0);
+  g_allocations = 0;
+  g_count_allocations = true;
+  for (int k = 0; k < 1200; ++k) replay.step(at(0.01 * k));
+  g_count_allocations = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+}
+
+TEST(CommandReplay, ARecordedSteeringRunReplayedOnTheSameModelRetracesItsPath) {
+  const std::string config_path = std::string(FLAGELLA_CONFIG_DIR) + "/helical_steering.yaml";
+  const flagella::SimulationConfig config = flagella::loadSimulationConfig(config_path, {});
+  const SteeringCalibration calibration = loadSteeringCalibration(
+      std::string(FLAGELLA_CONFIG_DIR) + "/calibration/helical_steering.yaml");
+  WaypointMission mission;
+  mission.points = {Eigen::Vector3d(0.03, 0.0, 0.015)};  // a climb: the slider moves
+  const flagella::SessionOptions sensors = steeringSessionOptions(config, calibration, 7);
+  constexpr double kDuration = 12.0;  // [s]
+  std::vector<RecordedCommand> recorded;
+  MassTransformerController controller(mission, calibration);
+  const SteeringRunResult closed =
+      runSteering(config, sensors, controller, kDuration, 0.5, &recorded);
+  ASSERT_GT(recorded.size(), 1000u);
+  const SteeringRunResult open = runOpenLoop(config, sensors, recorded, calibration.park_position,
+                                             closed.waypoints, mission.tolerance, kDuration);
+  ASSERT_EQ(open.samples.size(), closed.samples.size());
+  double largest = 0.0, slider_travel = 0.0;
+  for (std::size_t i = 0; i < open.samples.size(); ++i) {
+    largest = std::max(largest, (open.samples[i].position - closed.samples[i].position).norm());
+    slider_travel =
+        std::max(slider_travel, std::abs(closed.samples[i].slider - closed.samples.front().slider));
+  }
+  EXPECT_GT(slider_travel, 1e-4);  // the run exercised the slider, not only the motor
+  EXPECT_LT(largest, 1e-9) << "head paths of the run and its replay differ";
+}
+
+}  // namespace
+}  // namespace flagella::control
