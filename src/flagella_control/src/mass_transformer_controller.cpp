@@ -84,7 +84,9 @@ MassTransformerController::MassTransformerController(WaypointMission mission,
 
 void MassTransformerController::reset() {
   status_ = SteeringStatus{};
-  anchored_ = false;
+  anchored_ = course_pending_ = false;
+  course_until_ = 0.0;
+  course_origin_ = Vec3::Zero();
   last_time_ = last_imu_time_ = last_fix_time_ = 0.0;
   last_motor_ = 0.0;
   last_slider_ = calibration_.park_position;
@@ -123,12 +125,23 @@ void MassTransformerController::anchor(const ControllerInputs& in) {
     last_fix_time_ = in.time;
     has_fix_ = true;
   }
-  const double azimuth = azimuthOf(attitude.forward);
-  for (std::size_t i = 0; i < world_points_.size(); ++i)  // sized at construction
-    world_points_[i] = worldWaypoint(mission_, mission_.points[i], position_, azimuth);
   anchored_ = true;
   last_time_ = last_imu_time_ = in.time;
   next_cycle_allowed_ = in.time + gains_.settle_time;
+  if (mission_.frame == PathFrame::Start && mission_.course_time > 0.0) {
+    // The start frame's x is the course of a straight, level cruise (waypoint_mission.h).
+    course_pending_ = true;
+    course_until_ = in.time + mission_.course_time;
+    course_origin_ = position_;
+    status_.message = "measuring the course of the start frame";
+    return;
+  }
+  anchorWaypoints(position_, azimuthOf(attitude.forward));
+}
+
+void MassTransformerController::anchorWaypoints(const Vec3& origin, double azimuth) {
+  for (std::size_t i = 0; i < world_points_.size(); ++i)  // sized at construction
+    world_points_[i] = worldWaypoint(mission_, mission_.points[i], origin, azimuth);
   status_.mode = SteeringMode::Cruise;
 }
 
@@ -302,6 +315,27 @@ ControllerOutputs MassTransformerController::step(const ControllerInputs& in) {
     status_.message = "no IMU sample within sensor_fault_timeout: motor stopped";
     last_motor_ = 0.0;
     return output(0.0, calibration_.park_position, ControllerMode::Fault);
+  }
+  if (course_pending_) {
+    const double cruise = calibration_.cruise_omega;
+    if (in.time < course_until_) {  // straight and level: no cycles, the slider holds 0 deg
+      status_.target_elevation = 0.0;
+      const double slider = sliderCommand(dt);
+      status_.elevation = elevation_;
+      last_motor_ = cruise;
+      last_slider_ = slider;
+      return output(cruise, slider, ControllerMode::Running);
+    }
+    // x along the net displacement (the course), or the head axis if the robot barely moved.
+    course_pending_ = false;
+    const Vec3 moved(position_.x() - course_origin_.x(), position_.y() - course_origin_.y(), 0.0);
+    const double expected = calibration_.cruise_speed * mission_.course_time;
+    const bool moved_enough = moved.norm() > gains_.min_course_speed * expected;
+    const double azimuth = moved_enough ? azimuthOf(moved) : azimuthOf(direction_);
+    if (moved_enough)
+      status_.crab =
+          std::clamp(wrapAngle(azimuth - azimuthOf(direction_)), -gains_.max_crab, gains_.max_crab);
+    anchorWaypoints(course_origin_, azimuth);
   }
   guide(in.time);
   if (status_.waypoint >= static_cast<int>(world_points_.size())) {

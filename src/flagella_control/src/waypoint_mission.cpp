@@ -22,6 +22,7 @@ void WaypointMission::validate() const {
       requireInRange("waypoints", "points[" + std::to_string(i) + "][" + std::to_string(k) + "]",
                      points[i][k], -kMaxCoordinate, kMaxCoordinate);
   requireInRange("waypoints", "tolerance", tolerance, 1e-4, 10.0);
+  requireInRange("waypoints", "course_time", course_time, 0.0, 600.0);
 }
 
 WaypointMission loadWaypointMission(const std::string& path) {
@@ -48,6 +49,7 @@ WaypointMission loadWaypointMission(const std::string& path) {
     mission.points.push_back(p);
   }
   if (m.has("description")) mission.description = m.string("description");
+  if (m.has("course_time")) mission.course_time = m.number("course_time");
   m.rejectUnknown();
   try {
     mission.validate();

@@ -365,6 +365,30 @@ TEST(MassTransformerController, LearnsTheCrabAngleFromTheFixesAndSteersTheCourse
   EXPECT_LT(closest, 0.0075);
 }
 
+TEST(MassTransformerController, AStartFrameOnTheCourseLiesAlongTheMeasuredCourse) {
+  // The course runs 25 deg right of the head axis. With course_time, the start frame's x is
+  // that course: the waypoint straight ahead lies on it, and the robot reaches it.
+  const double crab = -25 * kDeg;
+  fc::WaypointMission m = mission({Vec3(0.08, 0.0, 0.0)}, 0.005);
+  m.course_time = 40.0;
+  fc::MassTransformerController controller(m, calibration());
+  Plant plant;
+  plant.crab = crab;
+  run(controller, plant, 20.0);
+  EXPECT_EQ(controller.status().mode, fc::SteeringMode::Waiting) << "still measuring at 20 s";
+  double closest = 1.0;
+  for (long k = 0; k < 900 * kRate && controller.status().mode != fc::SteeringMode::Finished; ++k) {
+    plant.apply(controller.step(plant.sense()));
+    if (controller.status().mode != fc::SteeringMode::Waiting)
+      closest = std::min(closest, (plant.position - controller.waypoints()[0]).norm());
+  }
+  const Vec3 ahead = controller.waypoints()[0];  // from the start (the origin)
+  EXPECT_NEAR(std::atan2(ahead.y(), ahead.x()), crab, 3 * kDeg);
+  EXPECT_NEAR(ahead.norm(), 0.08, 1e-3);
+  EXPECT_EQ(controller.status().mode, fc::SteeringMode::Finished) << controller.status().message;
+  EXPECT_LT(closest, 0.0075);
+}
+
 TEST(MassTransformerController, StepDoesNotAllocate) {
   fc::MassTransformerController controller(mission({Vec3(0.5, 0.1, 0.1), Vec3(0.0, 0.0, 0.0)}),
                                            calibration());

@@ -81,7 +81,7 @@ struct SteeringGains {
 };
 
 enum class SteeringMode : std::uint8_t {
-  Waiting = 0,  ///< for the first IMU sample
+  Waiting = 0,  ///< for the first IMU sample (or measuring the course of the start frame)
   Cruise = 1,
   BuckleTurn = 2,
   MassTransformer = 3,
@@ -130,6 +130,7 @@ class MassTransformerController : public ControllerCore {
 
  private:
   void anchor(const ControllerInputs& in);
+  void anchorWaypoints(const Vec3& origin, double azimuth);
   void estimate(const ControllerInputs& in, double dt);
   void guide(double time);
   void learnCrab(const Vec3& fix, double time);
@@ -146,6 +147,9 @@ class MassTransformerController : public ControllerCore {
   SteeringStatus status_;
 
   bool anchored_ = false;
+  bool course_pending_ = false;  ///< cruising straight to measure the start frame's x
+  double course_until_ = 0.0;
+  Vec3 course_origin_ = Vec3::Zero();
   double last_time_ = 0.0, last_imu_time_ = 0.0, last_fix_time_ = 0.0;
   double last_motor_ = 0.0, last_slider_ = 0.0;
   Vec3 position_ = Vec3::Zero();

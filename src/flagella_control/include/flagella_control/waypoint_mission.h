@@ -8,6 +8,9 @@
 //       - [0.02, 0.0, 0.01]
 //       - [0.04, 0.01, 0.0]
 //     description: "climb, dive, turn"   # optional
+//     course_time: 30    # optional, start frame only: x along the course over the first
+//                        # course_time seconds of straight, level cruise (the helical robot
+//                        # does not swim along its head axis); 0 (default): the head axis at t = 0
 #pragma once
 
 #include <Eigen/Core>
@@ -22,6 +25,7 @@ struct WaypointMission {
   std::vector<Eigen::Vector3d> points;  ///< in the mission's frame [m]
   PathFrame frame = PathFrame::Start;
   double tolerance = 0.018;  ///< [m]
+  double course_time = 0.0;  ///< [s]: the start frame's x from the course over this time
   std::string description;
 
   /// Throws std::invalid_argument naming the field and its allowed range.
