@@ -43,7 +43,8 @@ SteeringNode::SteeringNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   const std::string waypoints_file = param<std::string>(pnh, "waypoints", "");
   if (waypoints_file.empty()) throw std::invalid_argument("~waypoints (a YAML file) is required");
   SteeringGains gains;
-  gains.schedule = scheduleFromName(param<std::string>(pnh, "schedule", "relax"));
+  const std::string schedule = param<std::string>(pnh, "schedule", "relax");
+  gains.schedule = scheduleFromName(schedule);
   gains.turn_threshold = param(pnh, "turn_threshold", gains.turn_threshold);
   gains.settle_time = param(pnh, "settle_time", gains.settle_time);
   gains.tilt_time_constant = param(pnh, "tilt_time_constant", gains.tilt_time_constant);
@@ -73,8 +74,7 @@ SteeringNode::SteeringNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   estimated_path_.header.frame_id = world_frame_;
   ROS_INFO("flagella_steering_controller: %s, %zu waypoints (tolerance %.1f mm), %s schedule",
            controller_->mission().description.c_str(), controller_->mission().points.size(),
-           controller_->mission().tolerance * 1e3,
-           param<std::string>(pnh, "schedule", "relax").c_str());
+           controller_->mission().tolerance * 1e3, schedule.c_str());
 }
 
 void SteeringNode::onCameraFix(const geometry_msgs::PointStamped& msg) {

@@ -170,8 +170,8 @@ void MassTransformerController::estimate(const ControllerInputs& in, double dt) 
       sweep_rate_ += blend(dt, gains_.sweep_filter_time) *
                      (wrapAngle(azimuth - lean_azimuth_) / dt - sweep_rate_);
     lean_azimuth_ = azimuth;
-    // Over the vertical and while falling back from it, the slow direction filter lags the
-    // turn: it follows the lean.
+    // During a turn at elevation and while pitching back from it, the slow direction filter
+    // lags the turn: it follows the lightly filtered axis.
     if (status_.flipping || in.time < holdoff_until_) direction_ = direction_stage_ = lean_;
     roll_ = attitude.roll;
     last_imu_time_ = in.time;
@@ -194,13 +194,15 @@ void MassTransformerController::learnCrab(const Vec3& fix, double time) {
                           std::abs(elevation_) < gains_.max_elevation + gains_.top_margin;
     if (cruising && horizontal.norm() > gains_.min_course_speed * calibration_.cruise_speed) {
       const double crab = wrapAngle(azimuthOf(horizontal) - azimuthOf(direction_));
-      status_.crab = std::clamp(
-          status_.crab + blend(dt, gains_.crab_filter_time) * wrapAngle(crab - status_.crab),
-          -gains_.max_crab, gains_.max_crab);
+      setCrab(status_.crab + blend(dt, gains_.crab_filter_time) * wrapAngle(crab - status_.crab));
     }
   }
   last_fix_ = fix;
   has_fix_ = true;
+}
+
+void MassTransformerController::setCrab(double crab) {
+  status_.crab = std::clamp(crab, -gains_.max_crab, gains_.max_crab);
 }
 
 void MassTransformerController::guide(double time) {
@@ -217,8 +219,8 @@ void MassTransformerController::guide(double time) {
   status_.azimuth_error = wrapAngle(azimuthOf(wanted_) - azimuthOf(direction_) - status_.crab);
   const double leg_elevation =
       std::clamp(elevationOf(wanted_), -gains_.max_elevation, gains_.max_elevation);
-  // A turn over the vertical starts beyond `large_turn` (or beyond `blocked_turn` toward a side
-  // buckle cycles cannot turn to), not while falling back from the last one.
+  // A turn at elevation starts beyond `large_turn` (or beyond `blocked_turn` toward a side
+  // buckle cycles cannot turn to), not while pitching back from the last one.
   const double abs_error = std::abs(status_.azimuth_error);
   const int side = status_.azimuth_error > 0.0 ? 1 : -1;
   status_.turn_possible = turnPossible(side);
@@ -227,7 +229,7 @@ void MassTransformerController::guide(double time) {
        (!status_.turn_possible && abs_error > gains_.blocked_turn))) {
     status_.flipping = true;
     ++status_.flips;
-    // Over the top unless the leg clearly dives; kept for the whole turn.
+    // Pitch up unless the leg clearly dives; kept for the whole turn.
     flip_sign_ = leg_elevation < -gains_.tilt_mode_threshold ? -1.0 : 1.0;
   }
   // At elevation: pitch back down once the direction of travel points the wanted way.
@@ -258,7 +260,7 @@ double MassTransformerController::motorCommand(double time) {
     status_.in_cycle = false;
     next_cycle_allowed_ = time + gains_.settle_time;
   }
-  // Buckle cycles steer the azimuth, not during a turn over the vertical or the fall from it.
+  // Buckle cycles steer the azimuth, not during a turn at elevation or the pitch back from it.
   const bool wants_turn = std::abs(status_.azimuth_error) > gains_.turn_threshold &&
                           !status_.flipping && time >= holdoff_until_;
   const int side = status_.azimuth_error > 0.0 ? 1 : -1;  // +1: left (toward w)
@@ -332,9 +334,7 @@ ControllerOutputs MassTransformerController::step(const ControllerInputs& in) {
     const double expected = calibration_.cruise_speed * mission_.course_time;
     const bool moved_enough = moved.norm() > gains_.min_course_speed * expected;
     const double azimuth = moved_enough ? azimuthOf(moved) : azimuthOf(direction_);
-    if (moved_enough)
-      status_.crab =
-          std::clamp(wrapAngle(azimuth - azimuthOf(direction_)), -gains_.max_crab, gains_.max_crab);
+    if (moved_enough) setCrab(wrapAngle(azimuth - azimuthOf(direction_)));
     anchorWaypoints(course_origin_, azimuth);
   }
   guide(in.time);

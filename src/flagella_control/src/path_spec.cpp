@@ -54,8 +54,8 @@ void rejectUnknownKeys(const YAML::Node& node, const std::set<std::string>& allo
 
 PathSpec pathSpecFromYaml(const YAML::Node& node) {
   if (!node || !node.IsMap()) fail("the 'path' entry must be a map with a 'shape'");
-  rejectUnknownKeys(node, {"shape", "frame", "width", "height", "side", "radius", "turn", "points",
-                           "closed", "laps"});
+  rejectUnknownKeys(node, {"shape", "frame", "width", "height", "side", "radius", "turn",
+                           "points", "closed", "laps"});
   if (!node["shape"]) fail("'shape' is required: polyline, circle, rectangle or triangle");
   const std::string shape = node["shape"].as<std::string>();
   PathSpec spec;

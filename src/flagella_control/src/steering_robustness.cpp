@@ -40,14 +40,6 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-std::string number(double x) {
-  if (!std::isfinite(x)) return "null";
-  std::ostringstream out;
-  out.precision(8);
-  out << x;
-  return out.str();
-}
-
 }  // namespace
 
 void RobustnessOptions::validate() const {
@@ -189,22 +181,23 @@ std::string robustnessSummary(const RobustnessReport& report, double tolerance) 
 
 std::string robustnessJson(const RobustnessReport& report, double tolerance) {
   std::ostringstream j;
-  j << "{\n  \"tolerance_mm\": " << number(tolerance * 1e3)
-    << ",\n  \"wall_s\": " << number(report.wall_seconds)
+  j << "{\n  \"tolerance_mm\": " << jsonNumber(tolerance * 1e3)
+    << ",\n  \"wall_s\": " << jsonNumber(report.wall_seconds)
     << ",\n  \"reference\": {\"reached\": " << report.reference.reached
     << ", \"total\": " << report.reference.total
-    << ", \"max_miss_mm\": " << number(report.reference.max_miss * 1e3) << "},\n  \"runs\": [";
+    << ", \"max_miss_mm\": " << jsonNumber(report.reference.max_miss * 1e3) << "},\n  \"runs\": [";
   for (std::size_t i = 0; i < report.runs.size(); ++i) {
     const RobustnessRun& r = report.runs[i];
     j << (i ? ",\n" : "\n") << "    {\"kind\": \"" << r.kind << "\", \"seed\": " << r.seed
       << ", \"factors\": {";
     for (std::size_t k = 0; k < r.factors.size(); ++k)
-      j << (k ? ", " : "") << "\"" << r.factors[k].first << "\": " << number(r.factors[k].second);
+      j << (k ? ", " : "") << "\"" << r.factors[k].first
+        << "\": " << jsonNumber(r.factors[k].second);
     j << "}, \"reached\": " << r.result.reached << ", \"total\": " << r.result.total
-      << ", \"max_miss_mm\": " << number(r.result.max_miss * 1e3) << ", \"miss_mm\": [";
+      << ", \"max_miss_mm\": " << jsonNumber(r.result.max_miss * 1e3) << ", \"miss_mm\": [";
     for (std::size_t k = 0; k < r.result.miss.size(); ++k)
-      j << (k ? ", " : "") << number(r.result.miss[k] * 1e3);
-    j << "], \"time_s\": " << number(r.result.time)
+      j << (k ? ", " : "") << jsonNumber(r.result.miss[k] * 1e3);
+    j << "], \"time_s\": " << jsonNumber(r.result.time)
       << ", \"halted\": " << (r.result.halted ? "true" : "false") << ", \"error\": \""
       << jsonEscaped(r.error) << "\"}";
   }

@@ -47,6 +47,8 @@ bool fileValue(const YAML::Node& root, const std::string& field,
   return true;
 }
 
+}  // namespace
+
 std::string jsonNumber(double x) {
   if (!std::isfinite(x)) return "null";
   std::ostringstream out;
@@ -54,8 +56,6 @@ std::string jsonNumber(double x) {
   out << x;
   return out.str();
 }
-
-}  // namespace
 
 std::string jsonEscaped(const std::string& text) {
   std::string out;

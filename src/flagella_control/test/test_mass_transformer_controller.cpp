@@ -178,7 +178,7 @@ TEST(MassTransformerController, BothBuckleSchedulesDriveTheirLevels) {
     gains.schedule = kind;
     const fc::SteeringCalibration cal = calibration();
     const fc::BuckleSchedule& s = cal.schedule(kind);
-    // 25 deg left: buckle turns (a turn over the vertical starts beyond large_turn).
+    // 25 deg left: buckle turns (a turn at elevation starts beyond large_turn).
     fc::MassTransformerController controller(mission({Vec3(0.5, 0.5 * std::tan(25 * kDeg), 0.0)}),
                                              cal, gains);
     Plant plant;

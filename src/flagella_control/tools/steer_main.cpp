@@ -12,31 +12,20 @@
 
 #include "flagella_control/steering_run.h"
 #include "flagella_sim/core/parameter_set.h"
+#include "steering_cli.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"3-D waypoint steering of the helical robot (mass-transformer closed loop)"};
-  std::string config_path, waypoints_path, calibration_path, json_path, csv_path;
-  std::string schedule = "relax";
-  std::vector<std::string> overrides, errors_text;
+  flagella::control::cli::SteeringInputs inputs;
+  std::string json_path, csv_path;
+  std::vector<std::string> errors_text;
   unsigned seed = 1;
   double max_duration = 0.0;
-  app.add_option("--config", config_path, "robot config YAML with a slider: section")
-      ->required()
-      ->check(CLI::ExistingFile);
-  app.add_option("--waypoints", waypoints_path, "waypoint YAML (config/paths)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  app.add_option("--calibration", calibration_path,
-                 "steering calibration YAML (flagella_steer_calibrate)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  inputs.addTo(app);
   app.add_option("--model-error", errors_text,
                  "key=factor: scale a model value the calibration assumed (eps, E, C_t, C_r, l_0 "
                  "or section.field; repeatable)");
-  app.add_option("--set", overrides, "config override a.b=value (repeatable)");
   app.add_option("--seed", seed, "sensor noise seed");
-  app.add_option("--schedule", schedule, "buckle schedule: relax or three_level")
-      ->check(CLI::IsMember({"relax", "three_level"}));
   app.add_option("--max-duration", max_duration,
                  "give up after this many simulated seconds (default: simulation.duration)");
   app.add_option("--json", json_path, "write the result as JSON");
@@ -57,12 +46,11 @@ int main(int argc, char** argv) {
       errors.emplace_back(e.substr(0, eq), factor);
     }
     const flagella::SimulationConfig config = flagella::loadSimulationConfig(
-        config_path, flagella::control::modelErrorOverrides(config_path, overrides, errors));
-    const auto calibration = flagella::control::loadSteeringCalibration(calibration_path);
-    const auto mission = flagella::control::loadWaypointMission(waypoints_path);
-    flagella::control::SteeringGains gains;
-    gains.schedule = flagella::control::scheduleFromName(schedule);
-    flagella::control::MassTransformerController controller(mission, calibration, gains);
+        inputs.config_path,
+        flagella::control::modelErrorOverrides(inputs.config_path, inputs.overrides, errors));
+    const auto calibration = inputs.calibration();
+    const auto mission = inputs.mission();
+    flagella::control::MassTransformerController controller(mission, calibration, inputs.gains());
     const double duration = max_duration > 0.0 ? max_duration : config.duration;
     const auto result = flagella::control::runSteering(
         config, flagella::control::steeringSessionOptions(config, calibration, seed), controller,
@@ -70,7 +58,7 @@ int main(int argc, char** argv) {
     std::printf(
         "%s, %s schedule: %d of %d waypoints reached (tolerance %.1f mm), max miss %.1f mm, "
         "%s after %.1f s simulated (%.1f s wall), %ld buckle cycles\n",
-        mission.description.c_str(), schedule.c_str(), result.reached, result.total,
+        mission.description.c_str(), inputs.schedule.c_str(), result.reached, result.total,
         mission.tolerance * 1e3, result.max_miss * 1e3,
         result.finished ? "finished" : "NOT finished", result.time, result.wall_seconds,
         result.cycles);

@@ -13,21 +13,15 @@
 
 #include "flagella_control/steering_robustness.h"
 #include "flagella_sim/core/parameter_set.h"
+#include "steering_cli.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Robustness of the mass-transformer closed loop against model error and noise"};
   flagella::control::RobustnessOptions options;
   options.jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  std::string waypoints_path, calibration_path, json_path, schedule = "relax";
-  app.add_option("--config", options.config_path, "robot config YAML with a slider: section")
-      ->required()
-      ->check(CLI::ExistingFile);
-  app.add_option("--waypoints", waypoints_path, "waypoint YAML (config/paths)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  app.add_option("--calibration", calibration_path, "steering calibration YAML")
-      ->required()
-      ->check(CLI::ExistingFile);
+  flagella::control::cli::SteeringInputs inputs;
+  std::string json_path;
+  inputs.addTo(app);
   app.add_option("--runs", options.runs, "seeded runs per kind (default 10)")
       ->check(CLI::Range(1, 10000));
   app.add_option("--error", options.error, "relative model error of each key (default 0.2)")
@@ -40,21 +34,18 @@ int main(int argc, char** argv) {
                  "simulated seconds per run before giving up (default 600)")
       ->check(CLI::Range(1.0, 1e5));
   app.add_flag("!--no-nominal", options.nominal, "skip the nominal closed-loop runs");
-  app.add_option("--set", options.overrides, "config override a.b=value (repeatable)");
-  app.add_option("--schedule", schedule, "buckle schedule: relax or three_level")
-      ->check(CLI::IsMember({"relax", "three_level"}));
   app.add_option("--json", json_path, "write every run as JSON");
   CLI11_PARSE(app, argc, argv);
   try {
-    const auto calibration = flagella::control::loadSteeringCalibration(calibration_path);
-    const auto mission = flagella::control::loadWaypointMission(waypoints_path);
-    flagella::control::SteeringGains gains;
-    gains.schedule = flagella::control::scheduleFromName(schedule);
-    const auto report = flagella::control::runRobustness(options, calibration, mission, gains,
-                                                         [](const std::string& line) {
-                                                           std::printf("%s\n", line.c_str());
-                                                           std::fflush(stdout);
-                                                         });
+    options.config_path = inputs.config_path;
+    options.overrides = inputs.overrides;
+    const auto calibration = inputs.calibration();
+    const auto mission = inputs.mission();
+    const auto report = flagella::control::runRobustness(
+        options, calibration, mission, inputs.gains(), [](const std::string& line) {
+          std::printf("%s\n", line.c_str());
+          std::fflush(stdout);
+        });
     std::printf("\n%s", flagella::control::robustnessSummary(report, mission.tolerance).c_str());
     std::printf("%zu runs in %.0f s wall (%d jobs)\n", report.runs.size(), report.wall_seconds,
                 options.jobs);

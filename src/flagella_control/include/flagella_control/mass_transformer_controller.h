@@ -15,8 +15,7 @@
 //  - buckle-to-turn: azimuth error above `turn_threshold`: buckle cycles (schedule relax or
 //    three_level), each started when the flagellum's phase makes the calibrated turn of the
 //    cycle (a constant part plus a part set by the phase) go to the wanted side, then a settling
-//    time before the next; a side the cycles cannot turn to is left to the turn over the
-//    vertical;
+//    time before the next; a side the cycles cannot turn to is left to the turn at elevation;
 //  - mass-transformer: an elevation change above `tilt_mode_threshold`, or a turn at elevation
 //    for an azimuth error above `large_turn` (`blocked_turn` toward a side buckle cycles cannot
 //    turn to). The slider pitches the robot up (down for a diving leg) to `flip_elevation`;
@@ -134,6 +133,7 @@ class MassTransformerController : public ControllerCore {
   void estimate(const ControllerInputs& in, double dt);
   void guide(double time);
   void learnCrab(const Vec3& fix, double time);
+  void setCrab(double crab);  ///< within +-max_crab
   double motorCommand(double time);
   bool turnPossible(int side) const;
   double sliderCommand(double dt);
@@ -154,13 +154,13 @@ class MassTransformerController : public ControllerCore {
   double last_motor_ = 0.0, last_slider_ = 0.0;
   Vec3 position_ = Vec3::Zero();
   Vec3 direction_ = Vec3::UnitX(), direction_stage_ = Vec3::UnitX();
-  Vec3 lean_ = Vec3::UnitX();  ///< lightly filtered head axis (the lean at the top)
+  Vec3 lean_ = Vec3::UnitX();  ///< lightly filtered head axis (followed at elevation)
   Vec3 last_fix_ = Vec3::Zero(), course_velocity_ = Vec3::Zero();
   bool has_fix_ = false;
   double top_since_ = 0.0;  ///< when the robot reached the turn's elevation [s]
   double lean_azimuth_ = 0.0, sweep_rate_ = 0.0;  ///< [rad], its rate [rad/s]
   double holdoff_until_ = 0.0;
-  double flip_sign_ = 1.0;  ///< +1: over the top, -1: under the bottom
+  double flip_sign_ = 1.0;  ///< +1: the turn at elevation pitches up, -1: down
   double elevation_ = 0.0;  ///< filtered accelerometer elevation of travel
   double roll_ = 0.0, shaft_ = 0.0;
   Vec3 wanted_ = Vec3::UnitX();   ///< unit direction to the waypoint

@@ -74,6 +74,8 @@ SteeringRunResult runOpenLoop(const flagella::SimulationConfig& config,
                               const std::vector<Vec3>& waypoints, double tolerance,
                               double max_duration, double sample_interval = 0.5);
 
+/// A number for JSON: 10 significant digits, null when not finite.
+std::string jsonNumber(double x);
 /// `text` for a JSON string: quotes and backslashes escaped, newlines and tabs as spaces.
 std::string jsonEscaped(const std::string& text);
 
