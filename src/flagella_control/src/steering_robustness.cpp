@@ -84,6 +84,10 @@ RobustnessReport runRobustness(const RobustnessOptions& options,
     report.reference =
         runSteering(nominal, perfect, controller, options.max_duration, 0.5, &schedule);
   }
+  if (report.reference.waypoints.size() != mission.points.size())
+    throw std::runtime_error("the reference run never placed its waypoints: max_duration (" +
+                             std::to_string(options.max_duration) +
+                             " s) ends before the mission's course_time");
   if (progress)
     progress(
         "reference (nominal model, perfect sensors): " + std::to_string(report.reference.reached) +

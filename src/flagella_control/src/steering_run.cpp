@@ -132,7 +132,8 @@ struct RunView {
 };
 
 // Steps the session with `core` until it finishes or faults, scoring the true head path against
-// `waypoints` (known once `mode` leaves Waiting; `waypoints_of` reads them then).
+// the waypoints (placed once `mode` leaves Waiting; `waypoints_of` reads them then, and its
+// size before is the mission's). A waypoint never placed counts as missed (miss infinite).
 SteeringRunResult runScored(const flagella::SimulationConfig& config,
                             const flagella::SessionOptions& session_options, ControllerCore& core,
                             const std::function<std::vector<Vec3>()>& waypoints_of,
@@ -142,7 +143,8 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
   LcmHarness harness(session, core, HarnessOptions{});
   SteeringRunResult result;
   double next_sample = 0.0;
-  std::vector<double> miss;
+  std::vector<double> miss(waypoints_of().size(), std::numeric_limits<double>::infinity());
+  bool placed = false;
   SteeringMode last_mode = SteeringMode::Waiting;
   const auto after_step = [&]() {
     const SteeringMode mode = view.mode();
@@ -152,9 +154,9 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
     }
     if (mode == SteeringMode::Waiting) return;
     const flagella::RodSnapshot s = session.snapshot();
-    if (miss.empty()) {
+    if (!placed) {
       result.waypoints = waypoints_of();
-      miss.assign(result.waypoints.size(), std::numeric_limits<double>::infinity());
+      placed = true;
     }
     for (std::size_t i = 0; i < miss.size(); ++i)
       miss[i] = std::min(miss[i], (s.head_position - result.waypoints[i]).norm());
@@ -175,7 +177,7 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
     if (mode == SteeringMode::Finished || mode == SteeringMode::Fault) harness.requestStop();
   };
   const HarnessReport report = harness.run(max_duration, after_step);
-  result.total = static_cast<int>(result.waypoints.size());
+  result.total = static_cast<int>(miss.size());
   result.tolerance = tolerance;
   result.miss = miss;
   for (double m : miss) {

@@ -2,7 +2,8 @@
 // robustness runs: commands come back by time, the end is reported, bad recordings are refused,
 // step() does not allocate; and a closed-loop steering run recorded on the helical robot, replayed
 // blind on the same model with the same sensors, retraces the same head path (the simulation is
-// deterministic and the replay applies every command on the same step).
+// deterministic and the replay applies every command on the same step). A scored run that ends
+// before the waypoints are placed counts every one of them missed.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -89,6 +90,27 @@ TEST(CommandReplay, ARecordedSteeringRunReplayedOnTheSameModelRetracesItsPath) {
   }
   EXPECT_GT(slider_travel, 1e-4);  // the run exercised the slider, not only the motor
   EXPECT_LT(largest, 1e-9) << "head paths of the run and its replay differ";
+}
+
+TEST(SteeringRun, ARunEndingBeforeTheWaypointsArePlacedCountsThemAllMissed) {
+  // With course_time the waypoints are placed only after 30 s of cruise: a 1 s run must report
+  // the mission's 4 waypoints as missed, not 0 of 0 reached.
+  const std::string config_path = std::string(FLAGELLA_CONFIG_DIR) + "/helical_steering.yaml";
+  const flagella::SimulationConfig config = flagella::loadSimulationConfig(config_path, {});
+  const SteeringCalibration calibration = loadSteeringCalibration(
+      std::string(FLAGELLA_CONFIG_DIR) + "/calibration/helical_steering.yaml");
+  WaypointMission mission;
+  mission.points.assign(4, Eigen::Vector3d(0.03, 0.0, 0.0));
+  mission.course_time = 30.0;
+  MassTransformerController controller(mission, calibration);
+  const SteeringRunResult r =
+      runSteering(config, steeringSessionOptions(config, calibration, 1), controller, 1.0);
+  EXPECT_EQ(r.total, 4);
+  EXPECT_EQ(r.reached, 0);
+  ASSERT_EQ(r.miss.size(), 4u);
+  for (double m : r.miss) EXPECT_TRUE(std::isinf(m));
+  EXPECT_NE(steeringResultJson(r, "mass_transformer", "test").find("\"total\": 4"),
+            std::string::npos);
 }
 
 }  // namespace
