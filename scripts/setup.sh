@@ -8,6 +8,8 @@ PACKAGES=(
   libeigen3-dev libceres-dev libboost-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libsuitesparse-dev libopenblas-dev
   libgtest-dev googletest libbenchmark-dev
   python3-matplotlib python3-numpy
+  # sweeps beyond one machine: the mpi backend of flagella_sweep
+  openmpi-bin libopenmpi-dev
   # ROS 1 (Debian's own packages, under /usr) and LCM
   ros-core-dev ros-base-dev rosbash rosout python3-rostest python3-roslaunch python3-rosbag
   python3-rospy python3-rostopic python3-rosnode python3-rosservice python3-rosunit

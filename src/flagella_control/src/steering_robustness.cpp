@@ -11,9 +11,9 @@
 #include <random>
 #include <sstream>
 #include <stdexcept>
-#include <thread>
 
 #include "flagella_control/validation.h"
+#include "flagella_sim/runtime/parallel_for.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
 namespace flagella::control {
@@ -21,7 +21,6 @@ namespace flagella::control {
 namespace {
 
 const char* const kContext = "robustness options";
-constexpr int kMaxJobs = 64;
 
 std::string factorsText(const std::vector<std::pair<std::string, double>>& factors) {
   if (factors.empty()) return "nominal";
@@ -47,9 +46,10 @@ void RobustnessOptions::validate() const {
     throw std::invalid_argument("robustness options: runs must be in [1, 10000], got " +
                                 std::to_string(runs));
   requireInRange(kContext, "error", error, 0.0, 0.9);
-  if (jobs < 1 || jobs > kMaxJobs)
+  if (jobs < 1 || jobs > flagella::kMaxJobs)
     throw std::invalid_argument("robustness options: jobs must be in [1, " +
-                                std::to_string(kMaxJobs) + "], got " + std::to_string(jobs));
+                                std::to_string(flagella::kMaxJobs) + "], got " +
+                                std::to_string(jobs));
   requireInRange(kContext, "max_duration", max_duration, 1.0, 1e5);
   if (keys.empty()) throw std::invalid_argument("robustness options: keys must not be empty");
 }
@@ -101,50 +101,43 @@ RobustnessReport runRobustness(const RobustnessOptions& options,
     report.runs.push_back({"mismatched closed", seed, factors, {}, {}});
     report.runs.push_back({"mismatched open", seed, factors, {}, {}});
   }
-  std::atomic<std::size_t> next{0};
   std::atomic<int> done{0};
   std::mutex print;
-  const auto worker = [&]() {
-    for (std::size_t k = next++; k < report.runs.size(); k = next++) {
-      RobustnessRun& run = report.runs[k];
-      try {
-        const flagella::SimulationConfig config = flagella::loadSimulationConfig(
-            options.config_path,
-            modelErrorOverrides(options.config_path, options.overrides, run.factors));
-        const flagella::SessionOptions sensors =
-            steeringSessionOptions(config, calibration, run.seed);
-        if (run.kind == "mismatched open") {
-          run.result =
-              runOpenLoop(config, sensors, schedule, calibration.park_position,
-                          report.reference.waypoints, mission.tolerance, options.max_duration);
-        } else {
-          MassTransformerController controller(mission, calibration, gains);
-          run.result = runSteering(config, sensors, controller, options.max_duration);
-        }
-        run.result.samples.clear();
-      } catch (const std::exception& e) {
-        run.error = e.what();
+  flagella::parallelFor(static_cast<int>(report.runs.size()), options.jobs, [&](int k) {
+    RobustnessRun& run = report.runs[k];
+    try {
+      const flagella::SimulationConfig config = flagella::loadSimulationConfig(
+          options.config_path,
+          modelErrorOverrides(options.config_path, options.overrides, run.factors));
+      const flagella::SessionOptions sensors =
+          steeringSessionOptions(config, calibration, run.seed);
+      if (run.kind == "mismatched open") {
+        run.result =
+            runOpenLoop(config, sensors, schedule, calibration.park_position,
+                        report.reference.waypoints, mission.tolerance, options.max_duration);
+      } else {
+        MassTransformerController controller(mission, calibration, gains);
+        run.result = runSteering(config, sensors, controller, options.max_duration);
       }
-      const int finished = ++done;
-      if (progress) {
-        char line[512];
-        std::snprintf(line, sizeof line,
-                      "[%d/%zu] %s, seed %u (%s): %d of %d reached, max miss %.1f mm, %.0f s "
-                      "simulated%s%s",
-                      finished, report.runs.size(), run.kind.c_str(), run.seed,
-                      factorsText(run.factors).c_str(), run.result.reached, run.result.total,
-                      run.result.max_miss * 1e3, run.result.time,
-                      run.result.halted ? ", simulator halted" : "",
-                      run.error.empty() ? "" : (", error: " + run.error).c_str());
-        const std::lock_guard<std::mutex> lock(print);
-        progress(line);
-      }
+      run.result.samples.clear();
+    } catch (const std::exception& e) {
+      run.error = e.what();
     }
-  };
-  std::vector<std::thread> threads;
-  const int count = std::min<int>(options.jobs, static_cast<int>(report.runs.size()));
-  for (int j = 0; j < count; ++j) threads.emplace_back(worker);
-  for (std::thread& t : threads) t.join();
+    const int finished = ++done;
+    if (progress) {
+      char line[512];
+      std::snprintf(line, sizeof line,
+                    "[%d/%zu] %s, seed %u (%s): %d of %d reached, max miss %.1f mm, %.0f s "
+                    "simulated%s%s",
+                    finished, report.runs.size(), run.kind.c_str(), run.seed,
+                    factorsText(run.factors).c_str(), run.result.reached, run.result.total,
+                    run.result.max_miss * 1e3, run.result.time,
+                    run.result.halted ? ", simulator halted" : "",
+                    run.error.empty() ? "" : (", error: " + run.error).c_str());
+      const std::lock_guard<std::mutex> lock(print);
+      progress(line);
+    }
+  });
   report.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return report;

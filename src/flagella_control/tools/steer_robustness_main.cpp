@@ -9,16 +9,16 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <thread>
 
 #include "flagella_control/steering_robustness.h"
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/runtime/parallel_for.h"
 #include "steering_cli.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Robustness of the mass-transformer closed loop against model error and noise"};
   flagella::control::RobustnessOptions options;
-  options.jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  options.jobs = flagella::defaultJobs();
   flagella::control::cli::SteeringInputs inputs;
   std::string json_path;
   inputs.addTo(app);

@@ -4,12 +4,12 @@
 #include <atomic>
 #include <cmath>
 #include <numeric>
-#include <thread>
 #include <type_traits>
 
 #include "flagella_sim/actuation/motor_command.h"
 #include "flagella_sim/analysis/buckling_probe.h"
 #include "flagella_sim/core/units.h"
+#include "flagella_sim/runtime/parallel_for.h"
 #include "flagella_sim/simulation/simulation.h"
 
 namespace flagella {
@@ -24,23 +24,6 @@ constexpr double kStraightRadius = 1e3;
 constexpr int kWindowSamples = 50;
 
 double orZero(double v) { return std::isfinite(v) ? v : 0.0; }
-
-/// Runs `count` jobs on `threads` threads.
-template <typename Fn>
-void parallelFor(int count, int threads, Fn fn) {
-  threads = std::max(1, std::min(threads, count));
-  if (threads == 1) {
-    for (int i = 0; i < count; ++i) fn(i);
-    return;
-  }
-  std::atomic<int> next{0};
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t)
-    pool.emplace_back([&] {
-      for (int i = next++; i < count; i = next++) fn(i);
-    });
-  for (std::thread& th : pool) th.join();
-}
 
 /// Motor command held from each sample to the next (the data's convention).
 class HeldCommand : public MotorCommand {

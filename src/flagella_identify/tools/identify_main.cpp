@@ -12,6 +12,7 @@
 #include "flagella_identify/identify.h"
 #include "flagella_identify/model.h"
 #include "flagella_identify/report.h"
+#include "flagella_sim/runtime/parallel_for.h"
 
 using namespace flagella;
 using namespace flagella::identify;
@@ -54,7 +55,7 @@ int main(int argc, char** argv) {
       "wrong, name the physical effect that explains it, and report the held-out gain"};
   std::vector<std::string> data_files, overrides, free, candidates;
   std::string config, out_dir = "out/identify";
-  int jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  int jobs = flagella::defaultJobs();
   bool quiet = false, no_plot = false, calibrate_only = false;
   app.add_option("--data", data_files,
                  "measured data: metadata YAML (steady_state or time_series; CSV or bag), "
@@ -73,7 +74,7 @@ int main(int argc, char** argv) {
                  "override a baseline config field, e.g. robot.tail_edges=8 (repeatable)");
   app.add_option("--out", out_dir, "report directory")->capture_default_str();
   app.add_option("--jobs", jobs, "simulations run in parallel")
-      ->check(CLI::Range(1, 64))
+      ->check(CLI::Range(1, flagella::kMaxJobs))
       ->capture_default_str();
   app.add_flag("--calibrate-only", calibrate_only,
                "only fit the free parameters on every experiment (no held-out split, no "

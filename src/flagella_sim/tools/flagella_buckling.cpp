@@ -11,10 +11,10 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <thread>
 
 #include "flagella_sim/analysis/buckling_probe.h"
 #include "flagella_sim/core/units.h"
+#include "flagella_sim/runtime/parallel_for.h"
 #include "plot_command.h"
 
 namespace {
@@ -29,7 +29,7 @@ struct Options {
   std::vector<std::string> overrides;
   ThresholdSearchOptions search;
   std::string json, sweep, out_dir = "buckling_sweep", plot_script = FLAGELLA_BUCKLING_PLOT_SCRIPT;
-  int jobs = 2;
+  int jobs = flagella::defaultJobs();
   int refine = 0;  ///< > 0: also the smoothed threshold over 2 refine + 1 grid rates
   bool quiet = false;
 };
@@ -166,6 +166,7 @@ std::pair<std::string, std::vector<std::string>> parseSweep(const std::string& t
 }
 
 int sweep(const Options& o) {
+  flagella::requireJobs("--jobs", o.jobs);
   const auto [key, values] = parseSweep(o.sweep);
   std::vector<SimulationConfig> configs;  // all validated before any run
   for (const std::string& v : values) {
@@ -175,22 +176,9 @@ int sweep(const Options& o) {
   }
   if (!o.quiet) std::fprintf(stderr, "criterion: %s\n", criterion(configs.front()).c_str());
   std::vector<Search> searches(values.size());
-  std::mutex mutex;
-  size_t next = 0;
-  auto worker = [&] {
-    for (;;) {
-      size_t i;
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (next >= values.size()) return;
-        i = next++;
-      }
-      searches[i] = search(configs[i], o, "  [" + key + " = " + values[i] + "] ");
-    }
-  };
-  std::vector<std::thread> threads;
-  for (int j = 0; j < std::max(1, o.jobs); ++j) threads.emplace_back(worker);
-  for (std::thread& t : threads) t.join();
+  flagella::parallelFor(static_cast<int>(values.size()), o.jobs, [&](int i) {
+    searches[i] = search(configs[i], o, "  [" + key + " = " + values[i] + "] ");
+  });
   std::filesystem::create_directories(o.out_dir);
   const std::string table = o.out_dir + "/buckling_sweep.csv";
   std::ofstream csv(table);
@@ -236,7 +224,7 @@ int main(int argc, char** argv) {
   app.add_option("--sweep", o.sweep,
                  "sweep mode: section.field=v1,v2,... (a threshold per value, CSV + plot)");
   app.add_option("--out", o.out_dir, "sweep mode: output folder")->capture_default_str();
-  app.add_option("--jobs", o.jobs, "sweep mode: values searched in parallel")
+  app.add_option("--jobs", o.jobs, "sweep mode: values searched in parallel, in [1, 256]")
       ->capture_default_str();
   app.add_option("--plot-script", o.plot_script, "sweep mode: matplotlib script ('' to skip)");
   app.add_option(

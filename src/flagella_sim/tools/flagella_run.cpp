@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/runtime/parallel_for.h"
 #include "flagella_sim/solver/implicit_stepper.h"
 #include "run_commands.h"
 
@@ -79,7 +80,10 @@ int main(int argc, char** argv) {
       ->add_option("--n-tails", sweep.n_tails,
                    "tail counts (multi-tail robots; default: the config's, one line)")
       ->delimiter(',');
-  sweep_cmd->add_option("--jobs", sweep.jobs, "parallel runs")->capture_default_str();
+  sweep.jobs = flagella::defaultJobs();
+  sweep_cmd
+      ->add_option("--jobs", sweep.jobs, "parallel runs, in [1, 256] (default: the core count)")
+      ->capture_default_str();
   sweep.plot_script = FLAGELLA_PLOT_SCRIPT;
   sweep_cmd->add_option("--plot-script", sweep.plot_script, "matplotlib plot script ('' to skip)")
       ->capture_default_str();

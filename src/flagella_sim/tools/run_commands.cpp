@@ -9,12 +9,12 @@
 #include <iostream>
 #include <mutex>
 #include <sstream>
-#include <thread>
 
 #include "flagella_sim/beam/euler_bernoulli_beam.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/outputs/output_writers.h"
+#include "flagella_sim/runtime/parallel_for.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "plot_command.h"
 #include "summary_json.h"
@@ -136,6 +136,7 @@ int runCommand(const RunOptions& o) {
 }
 
 int sweepCommand(const SweepOptions& o) {
+  requireJobs("--jobs", o.jobs);
   struct Case {
     int n;
     double rpm;
@@ -159,37 +160,26 @@ int sweepCommand(const SweepOptions& o) {
     }
   std::filesystem::create_directories(o.out_dir);
   std::mutex mutex;
-  size_t next = 0, done = 0;
-  auto worker = [&]() {
-    for (;;) {
-      size_t i;
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (next >= cases.size()) return;
-        i = next++;
-      }
-      try {
-        Simulation sim(cases[i].config);
-        cases[i].result = simulate(cases[i].config, sim, true);
-      } catch (const std::exception& e) {  // never let an exception escape a worker thread
-        cases[i].result.failed = true;
-        cases[i].result.error = e.what();
-      }
-      std::lock_guard<std::mutex> lock(mutex);
-      ++done;
-      if (!o.quiet)
-        std::fprintf(
-            stderr,
-            "[%zu/%zu] n = %d, omega_T = %g rpm: v = %.4f mm/s, omega_h = %.2f rpm (%.1f s)%s\n",
-            done, cases.size(), cases[i].n, cases[i].rpm,
-            units::metresToMm(cases[i].result.summary.speed),
-            units::radPerSecToRpm(cases[i].result.summary.omega_h), cases[i].result.wall,
-            cases[i].result.failed ? " SOLVER FAILURE" : "");
+  size_t done = 0;
+  parallelFor(static_cast<int>(cases.size()), o.jobs, [&](int i) {
+    try {
+      Simulation sim(cases[i].config);
+      cases[i].result = simulate(cases[i].config, sim, true);
+    } catch (const std::exception& e) {  // never let an exception escape a worker thread
+      cases[i].result.failed = true;
+      cases[i].result.error = e.what();
     }
-  };
-  std::vector<std::thread> threads;
-  for (int j = 0; j < std::max(1, o.jobs); ++j) threads.emplace_back(worker);
-  for (std::thread& t : threads) t.join();
+    std::lock_guard<std::mutex> lock(mutex);
+    ++done;
+    if (!o.quiet)
+      std::fprintf(
+          stderr,
+          "[%zu/%zu] n = %d, omega_T = %g rpm: v = %.4f mm/s, omega_h = %.2f rpm (%.1f s)%s\n",
+          done, cases.size(), cases[i].n, cases[i].rpm,
+          units::metresToMm(cases[i].result.summary.speed),
+          units::radPerSecToRpm(cases[i].result.summary.omega_h), cases[i].result.wall,
+          cases[i].result.failed ? " SOLVER FAILURE" : "");
+  });
 
   const std::string table = o.out_dir + "/sweep.csv";
   std::ofstream out(table);

@@ -1,0 +1,113 @@
+// The MPI backend (backends.h): rank 0 hands out point indices one at a time and stores the
+// records the workers send back as JSON text.
+#include <chrono>
+#include <stdexcept>
+
+#include "flagella_sweep/backends.h"
+#include "flagella_sweep/point_runner.h"
+
+#ifdef FLAGELLA_SWEEP_WITH_MPI
+#include <mpi.h>
+#endif
+
+namespace flagella::sweep {
+
+#ifndef FLAGELLA_SWEEP_WITH_MPI
+
+bool mpiAvailable() { return false; }
+
+RunReport runMpi(const SweepSpec&, const SweepStore&, bool, int&) {
+  throw std::runtime_error(
+      "this flagella_sweep was built without MPI (install libopenmpi-dev and rebuild)");
+}
+
+#else
+
+namespace {
+
+enum Tag { kReady = 1, kWork = 2, kStop = 3 };
+
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/// Receives a text message from any rank; returns the sender.
+int receiveText(std::string& text, int& tag) {
+  MPI_Status status;
+  MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
+  int size = 0;
+  MPI_Get_count(&status, MPI_CHAR, &size);
+  text.assign(static_cast<std::size_t>(size), '\0');
+  MPI_Recv(text.data(), size, MPI_CHAR, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD,
+           MPI_STATUS_IGNORE);
+  tag = status.MPI_TAG;
+  return status.MPI_SOURCE;
+}
+
+void sendText(const std::string& text, int to, int tag) {
+  MPI_Send(text.data(), static_cast<int>(text.size()), MPI_CHAR, to, tag, MPI_COMM_WORLD);
+}
+
+}  // namespace
+
+bool mpiAvailable() { return true; }
+
+RunReport runMpi(const SweepSpec& spec, const SweepStore& store, bool quiet, int& rank) {
+  MPI_Init(nullptr, nullptr);
+  int size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  RunReport report;
+  const std::string tools = executableDirectory();
+  if (rank != 0) {  // worker: ask, run, answer with the record, until told to stop
+    sendText("", 0, kReady);
+    for (;;) {
+      std::string text;
+      int tag = 0;
+      receiveText(text, tag);
+      if (tag == kStop) break;
+      const int index = std::stoi(text);
+      sendText(runPoint(spec, index, tools, store.workDirectory(index)).dump(), 0, kReady);
+    }
+    MPI_Finalize();
+    return report;
+  }
+  report.total = static_cast<int>(spec.points.size());
+  const std::vector<int> todo = store.missing(report.total);
+  report.already = report.total - static_cast<int>(todo.size());
+  report.workers = size > 1 ? size - 1 : 1;
+  Progress progress(report.total, report.already, quiet);
+  const double start = now();
+  auto store_record = [&](const nlohmann::json& record) {
+    store.writeRecord(record);
+    ++report.ran;
+    if (record["status"] != "ok") ++report.failed;
+    report.point_wall += record["wall_s"].get<double>();
+    progress.pointDone(record);
+  };
+  std::size_t next = 0;
+  if (size == 1) {
+    for (int index : todo) store_record(runPoint(spec, index, tools, store.workDirectory(index)));
+  } else {
+    int active = size - 1;
+    while (active > 0) {
+      std::string text;
+      int tag = 0;
+      const int from = receiveText(text, tag);
+      if (!text.empty()) store_record(nlohmann::json::parse(text));
+      if (next < todo.size()) {
+        sendText(std::to_string(todo[next++]), from, kWork);
+      } else {
+        sendText("", from, kStop);
+        --active;
+      }
+    }
+  }
+  report.wall = now() - start;
+  MPI_Finalize();
+  return report;
+}
+
+#endif
+
+}  // namespace flagella::sweep
