@@ -2,6 +2,7 @@
 // records the workers send back as JSON text.
 #include <chrono>
 #include <stdexcept>
+#include <thread>
 
 #include "flagella_sweep/backends.h"
 #include "flagella_sweep/point_runner.h"
@@ -31,10 +32,16 @@ double now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-/// Receives a text message from any rank; returns the sender.
+/// Receives a text message from any rank; returns the sender. Polls with a short sleep instead
+/// of a blocking probe: OpenMPI's blocking calls spin, and a spinning rank 0 would take a core
+/// from the workers when ranks share cores (mpirun --oversubscribe, or rank 0 beside workers).
 int receiveText(std::string& text, int& tag) {
   MPI_Status status;
-  MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
+  for (int arrived = 0;;) {
+    MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &arrived, &status);
+    if (arrived) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
   int size = 0;
   MPI_Get_count(&status, MPI_CHAR, &size);
   text.assign(static_cast<std::size_t>(size), '\0');
