@@ -41,7 +41,7 @@ grep -q ',ok,0,,' ref.csv || fail "no ok rows"
 "$bin/flagella_sweep" run sweep.yaml --out local2 --jobs 2 --quiet
 strip local2/results.csv | diff ref.csv - || fail "local --jobs 2 differs from --jobs 1"
 
-mpirun --allow-run-as-root --oversubscribe -np 3 "$bin/flagella_sweep" run sweep.yaml \
+timeout 300 mpirun --allow-run-as-root --oversubscribe -np 3 "$bin/flagella_sweep" run sweep.yaml \
   --backend mpi --out mpi3 --quiet
 strip mpi3/results.csv | diff ref.csv - || fail "mpirun -np 3 differs from local --jobs 1"
 

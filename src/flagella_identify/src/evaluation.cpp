@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <numeric>
 #include <type_traits>
 
 #include "flagella_sim/actuation/motor_command.h"
 #include "flagella_sim/analysis/buckling_probe.h"
 #include "flagella_sim/core/units.h"
+#include "flagella_sim/runtime/distributed_for.h"
 #include "flagella_sim/runtime/parallel_for.h"
 #include "flagella_sim/simulation/simulation.h"
 
@@ -24,6 +26,50 @@ constexpr double kStraightRadius = 1e3;
 constexpr int kWindowSamples = 50;
 
 double orZero(double v) { return std::isfinite(v) ? v : 0.0; }
+
+/// A double in JSON, exactly; non-finite values as the strings nan, inf, -inf.
+nlohmann::json exactJson(double v) {
+  if (std::isfinite(v)) return v;
+  return std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
+}
+double exactNumber(const nlohmann::json& j) {
+  if (j.is_number()) return j.get<double>();
+  const std::string s = j.get<std::string>();
+  if (s == "nan") return std::nan("");
+  return s == "inf" ? HUGE_VAL : -HUGE_VAL;
+}
+
+/// A job's evaluation as text, for the ranks of an MPI run (distributed_for.h).
+std::string encodeEvaluation(const Evaluation& e) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const ResidualPoint& p : e.points)
+    points.push_back({p.output, p.from_series, p.source, p.row, exactJson(p.omega_T),
+                      exactJson(p.session_time), exactJson(p.run_time), exactJson(p.data),
+                      exactJson(p.model), exactJson(p.sigma)});
+  return nlohmann::json{{"ok", e.ok}, {"failure", e.failure}, {"points", points}}.dump();
+}
+
+Evaluation decodeEvaluation(const std::string& text) {
+  const nlohmann::json j = nlohmann::json::parse(text);
+  Evaluation e;
+  e.ok = j.at("ok").get<bool>();
+  e.failure = j.at("failure").get<std::string>();
+  for (const nlohmann::json& p : j.at("points")) {
+    ResidualPoint r;
+    r.output = p[0].get<std::string>();
+    r.from_series = p[1].get<bool>();
+    r.source = p[2].get<int>();
+    r.row = p[3].get<int>();
+    r.omega_T = exactNumber(p[4]);
+    r.session_time = exactNumber(p[5]);
+    r.run_time = exactNumber(p[6]);
+    r.data = exactNumber(p[7]);
+    r.model = exactNumber(p[8]);
+    r.sigma = exactNumber(p[9]);
+    e.points.push_back(std::move(r));
+  }
+  return e;
+}
 
 /// Motor command held from each sample to the next (the data's convention).
 class HeldCommand : public MotorCommand {
@@ -214,10 +260,16 @@ std::vector<Evaluation> Evaluator::evaluateMany(const Model& model,
   }
   // Threads the jobs leave idle go to the runs of a job's threshold window.
   for (Job& job : jobs) job.threads = std::max(1, options_.jobs / std::max<int>(1, jobs.size()));
-  std::vector<Evaluation> per_job(jobs.size());
-  parallelFor(static_cast<int>(jobs.size()), options_.jobs, [&](int j) {
-    runJob(model, values[jobs[j].model_index], jobs[j], part, per_job[j]);
-  });
+  // On this process's threads, or spread over mpirun's ranks: every rank gets every job's
+  // evaluation, so every rank's fit goes on identically (distributed_for.h).
+  const std::vector<std::string> encoded =
+      distributedFor(static_cast<int>(jobs.size()), options_.jobs, [&](int j) {
+        Evaluation e;
+        runJob(model, values[jobs[j].model_index], jobs[j], part, e);
+        return encodeEvaluation(e);
+      });
+  std::vector<Evaluation> per_job;
+  for (const std::string& text : encoded) per_job.push_back(decodeEvaluation(text));
   std::vector<Evaluation> out(values.size());
   for (size_t j = 0; j < jobs.size(); ++j) {
     Evaluation& e = out[jobs[j].model_index];

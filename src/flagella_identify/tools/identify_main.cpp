@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
+#include <memory>
 #include <thread>
 
 #include "flagella_identify/bag_reader.h"
@@ -12,6 +14,7 @@
 #include "flagella_identify/identify.h"
 #include "flagella_identify/model.h"
 #include "flagella_identify/report.h"
+#include "flagella_sim/runtime/distributed_for.h"
 #include "flagella_sim/runtime/parallel_for.h"
 
 using namespace flagella;
@@ -46,6 +49,20 @@ void runCalibration(const MeasuredData& data, const YAML::Node& baseline, const 
   for (const std::string& f : writeCalibrationReport(result, data, data_files, config, out_dir))
     std::cout << "wrote " << f << "\n";
 }
+
+/// A temporary folder for the outputs of MPI ranks other than 0, removed with its contents.
+struct ScratchFolder {
+  std::string path;
+  ScratchFolder() {
+    char name[] = "/tmp/flagella_identify_rankXXXXXX";
+    const char* made = mkdtemp(name);
+    path = made ? made : "/tmp";
+  }
+  ~ScratchFolder() {
+    std::error_code ec;
+    if (path != "/tmp") std::filesystem::remove_all(path, ec);
+  }
+};
 
 }  // namespace
 
@@ -82,6 +99,16 @@ int main(int argc, char** argv) {
   app.add_flag("--no-plot", no_plot, "do not draw report.png");
   app.add_flag("--quiet", quiet, "no progress output");
   CLI11_PARSE(app, argc, argv);
+  // Under mpirun every rank runs the same fit, its model runs spread over the ranks
+  // (distributed_for.h); rank 0 reports, the others write into a scratch folder, removed at exit.
+  const flagella::MpiScope mpi;
+  std::unique_ptr<ScratchFolder> scratch;
+  if (!flagella::isRootRank()) {
+    scratch = std::make_unique<ScratchFolder>();
+    out_dir = scratch->path;
+    quiet = no_plot = true;
+    if (!std::freopen("/dev/null", "w", stdout)) quiet = true;  // rank 0 prints the report
+  }
 
   const auto start = std::chrono::steady_clock::now();
   auto progress = [&](const std::string& line) {

@@ -14,6 +14,7 @@
 
 #include "flagella_sim/analysis/buckling_probe.h"
 #include "flagella_sim/core/units.h"
+#include "flagella_sim/runtime/distributed_for.h"
 #include "flagella_sim/runtime/parallel_for.h"
 #include "plot_command.h"
 
@@ -43,6 +44,58 @@ struct Search {
   ThresholdResult bisection;
   flagella::WindowThreshold refined;
 };
+
+// A search as text, for the ranks of an MPI sweep (distributed_for.h); doubles exactly, NaN as
+// null.
+nlohmann::json numberJson(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+}
+double jsonNumber(const nlohmann::json& j) { return j.is_null() ? std::nan("") : j.get<double>(); }
+
+nlohmann::json probesText(const std::vector<ThresholdProbe>& runs) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const ThresholdProbe& p : runs)
+    out.push_back({numberJson(p.rate), p.above, numberJson(p.indicator), numberJson(p.wall_seconds),
+                   p.failed, p.error});
+  return out;
+}
+
+std::vector<ThresholdProbe> probesFrom(const nlohmann::json& j) {
+  std::vector<ThresholdProbe> runs;
+  for (const nlohmann::json& r : j)
+    runs.push_back({jsonNumber(r[0]), r[1].get<bool>(), jsonNumber(r[2]), jsonNumber(r[3]),
+                    r[4].get<bool>(), r[5].get<std::string>()});
+  return runs;
+}
+
+std::string encodeSearch(const Search& s) {
+  const ThresholdResult& b = s.bisection;
+  return nlohmann::json{{"found", b.found},
+                        {"threshold", numberJson(b.threshold)},
+                        {"low", numberJson(b.low)},
+                        {"high", numberJson(b.high)},
+                        {"runs", probesText(b.runs)},
+                        {"message", b.message},
+                        {"refined_threshold", numberJson(s.refined.threshold)},
+                        {"refined_runs", probesText(s.refined.runs)},
+                        {"refined_message", s.refined.message}}
+      .dump();
+}
+
+Search decodeSearch(const std::string& text) {
+  const nlohmann::json j = nlohmann::json::parse(text);
+  Search s;
+  s.bisection.found = j.at("found").get<bool>();
+  s.bisection.threshold = jsonNumber(j.at("threshold"));
+  s.bisection.low = jsonNumber(j.at("low"));
+  s.bisection.high = jsonNumber(j.at("high"));
+  s.bisection.runs = probesFrom(j.at("runs"));
+  s.bisection.message = j.at("message").get<std::string>();
+  s.refined.threshold = jsonNumber(j.at("refined_threshold"));
+  s.refined.runs = probesFrom(j.at("refined_runs"));
+  s.refined.message = j.at("refined_message").get<std::string>();
+  return s;
+}
 
 std::string criterion(const SimulationConfig& c) {
   std::ostringstream s;
@@ -143,7 +196,7 @@ int single(const Options& o) {
     else
       std::printf("no smoothed threshold: %s\n", s.refined.message.c_str());
   }
-  if (!o.json.empty()) {
+  if (!o.json.empty() && flagella::isRootRank()) {  // under mpirun every rank searches
     std::ofstream out(o.json);
     out << resultJson(c, s, o.refine).dump(2) << "\n";
     if (!out) throw std::runtime_error("--json: cannot write " + o.json);
@@ -175,10 +228,18 @@ int sweep(const Options& o) {
     configs.push_back(flagella::loadSimulationConfig(o.config, overrides));
   }
   if (!o.quiet) std::fprintf(stderr, "criterion: %s\n", criterion(configs.front()).c_str());
-  std::vector<Search> searches(values.size());
-  flagella::parallelFor(static_cast<int>(values.size()), o.jobs, [&](int i) {
-    searches[i] = search(configs[i], o, "  [" + key + " = " + values[i] + "] ");
-  });
+  // On this rank's threads, or spread over mpirun's ranks (every rank gets every search).
+  const std::vector<std::string> results =
+      flagella::distributedFor(static_cast<int>(values.size()), o.jobs, [&](int i) {
+        return encodeSearch(search(configs[i], o, "  [" + key + " = " + values[i] + "] "));
+      });
+  std::vector<Search> searches;
+  for (const std::string& r : results) searches.push_back(decodeSearch(r));
+  if (!flagella::isRootRank()) {  // rank 0 writes the table
+    for (const Search& s : searches)
+      if (!s.bisection.found) return 3;
+    return 0;
+  }
   std::filesystem::create_directories(o.out_dir);
   const std::string table = o.out_dir + "/buckling_sweep.csv";
   std::ofstream csv(table);
@@ -205,6 +266,7 @@ int sweep(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  const flagella::MpiScope mpi;  // under mpirun: --sweep spreads its searches over the ranks
   CLI::App app{
       "flagella_buckling: the motor rate at which the flagellum buckles (bracketing + bisection)"};
   Options o;

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/runtime/distributed_for.h"
 #include "flagella_sim/runtime/parallel_for.h"
 #include "flagella_sim/solver/implicit_stepper.h"
 #include "run_commands.h"
@@ -56,6 +57,7 @@ struct Shortcuts {
 }  // namespace
 
 int main(int argc, char** argv) {
+  const flagella::MpiScope mpi;  // under mpirun: `sweep` spreads its runs over the ranks
   CLI::App app{"flagella_run: simulate soft flagellated robots (discrete elastic rod networks)"};
   app.require_subcommand(1);
 

@@ -8,12 +8,14 @@
 #include <iomanip>
 #include <iostream>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "flagella_sim/beam/euler_bernoulli_beam.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/outputs/output_writers.h"
+#include "flagella_sim/runtime/distributed_for.h"
 #include "flagella_sim/runtime/parallel_for.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "plot_command.h"
@@ -94,6 +96,47 @@ struct RunResult {
   std::string error;
 };
 
+// A sweep case's result as text, for the ranks of an MPI run (distributed_for.h): the fields the
+// sweep table and its progress lines use, doubles exactly (NaN as null).
+nlohmann::json finiteOrNull(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+}
+double numberOrNan(const nlohmann::json& j) { return j.is_null() ? std::nan("") : j.get<double>(); }
+
+std::string encodeResult(const RunResult& r) {
+  const SummaryMetrics& m = r.summary;
+  return nlohmann::json{{"failed", r.failed},
+                        {"error", r.error},
+                        {"wall", r.wall},
+                        {"speed", finiteOrNull(m.speed)},
+                        {"omega_h", finiteOrNull(m.omega_h)},
+                        {"omega_t", finiteOrNull(m.omega_t)},
+                        {"yaw_rate", finiteOrNull(m.yaw_rate)},
+                        {"efficiency_valid", m.efficiency_valid},
+                        {"efficiency", finiteOrNull(m.efficiency)},
+                        {"flagellum_tilt_max", finiteOrNull(m.flagellum_tilt_max)},
+                        {"buckled", m.buckled}}
+      .dump();
+}
+
+RunResult decodeResult(const std::string& text) {
+  const nlohmann::json j = nlohmann::json::parse(text);
+  RunResult r;
+  r.failed = j.at("failed").get<bool>();
+  r.error = j.at("error").get<std::string>();
+  r.wall = j.at("wall").get<double>();
+  SummaryMetrics& m = r.summary;
+  m.speed = numberOrNan(j.at("speed"));
+  m.omega_h = numberOrNan(j.at("omega_h"));
+  m.omega_t = numberOrNan(j.at("omega_t"));
+  m.yaw_rate = numberOrNan(j.at("yaw_rate"));
+  m.efficiency_valid = j.at("efficiency_valid").get<bool>();
+  m.efficiency = numberOrNan(j.at("efficiency"));
+  m.flagellum_tilt_max = numberOrNan(j.at("flagellum_tilt_max"));
+  m.buckled = j.at("buckled").get<bool>();
+  return r;
+}
+
 RunResult simulate(const SimulationConfig& config, Simulation& sim, bool quiet) {
   RunResult r;
   ProgressPrinter progress(config.duration, quiet);
@@ -161,25 +204,35 @@ int sweepCommand(const SweepOptions& o) {
   std::filesystem::create_directories(o.out_dir);
   std::mutex mutex;
   size_t done = 0;
-  parallelFor(static_cast<int>(cases.size()), o.jobs, [&](int i) {
-    try {
-      Simulation sim(cases[i].config);
-      cases[i].result = simulate(cases[i].config, sim, true);
-    } catch (const std::exception& e) {  // never let an exception escape a worker thread
-      cases[i].result.failed = true;
-      cases[i].result.error = e.what();
-    }
-    std::lock_guard<std::mutex> lock(mutex);
-    ++done;
-    if (!o.quiet)
-      std::fprintf(
-          stderr,
-          "[%zu/%zu] n = %d, omega_T = %g rpm: v = %.4f mm/s, omega_h = %.2f rpm (%.1f s)%s\n",
-          done, cases.size(), cases[i].n, cases[i].rpm,
-          units::metresToMm(cases[i].result.summary.speed),
-          units::radPerSecToRpm(cases[i].result.summary.omega_h), cases[i].result.wall,
-          cases[i].result.failed ? " SOLVER FAILURE" : "");
-  });
+  // On this rank's threads, or spread over mpirun's ranks (every rank gets every result).
+  const std::vector<std::string> results =
+      distributedFor(static_cast<int>(cases.size()), o.jobs, [&](int i) {
+        RunResult r;
+        try {
+          Simulation sim(cases[i].config);
+          r = simulate(cases[i].config, sim, true);
+        } catch (const std::exception& e) {  // never let an exception escape a worker thread
+          r.failed = true;
+          r.error = e.what();
+        }
+        std::lock_guard<std::mutex> lock(mutex);
+        ++done;
+        if (!o.quiet)
+          std::fprintf(stderr,
+                       "[%zu/%zu%s] n = %d, omega_T = %g rpm: v = %.4f mm/s, omega_h = %.2f rpm "
+                       "(%.1f s)%s\n",
+                       done, cases.size(),
+                       mpiSize() > 1 ? (" on rank " + std::to_string(mpiRank())).c_str() : "",
+                       cases[i].n, cases[i].rpm, units::metresToMm(r.summary.speed),
+                       units::radPerSecToRpm(r.summary.omega_h), r.wall,
+                       r.failed ? " SOLVER FAILURE" : "");
+        return encodeResult(r);
+      });
+  for (std::size_t i = 0; i < cases.size(); ++i) cases[i].result = decodeResult(results[i]);
+  int status = 0;
+  for (const Case& c : cases)
+    if (c.result.failed) status = 3;
+  if (!isRootRank()) return status;  // rank 0 writes the table
 
   const std::string table = o.out_dir + "/sweep.csv";
   std::ofstream out(table);
@@ -197,13 +250,10 @@ int sweepCommand(const SweepOptions& o) {
   out.close();
   std::printf("sweep table: %s\n", table.c_str());
   flagella::cli::plotTable(o.plot_script, table, o.out_dir + "/sweep.png");
-  int status = 0;
   for (const Case& c : cases)
-    if (c.result.failed) {
+    if (c.result.failed)
       std::fprintf(stderr, "error: n = %d, omega_T = %g rpm: %s\n", c.n, c.rpm,
                    c.result.error.c_str());
-      status = 3;
-    }
   return status;
 }
 

@@ -12,6 +12,8 @@
 #include <fstream>
 #include <sstream>
 
+extern char** environ;
+
 namespace flagella::sweep {
 
 namespace {
@@ -45,6 +47,16 @@ int spawn(const std::vector<std::string>& argv, const std::string& cwd, const st
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  // The tool is a process of its own, not a rank of this sweep's MPI job: without mpirun's
+  // variables (with them, a tool that can use MPI would try to join the job and hang).
+  std::vector<char*> env;
+  for (char** e = environ; *e; ++e) {
+    const std::string var(*e);
+    if (var.rfind("OMPI_", 0) == 0 || var.rfind("PMI_", 0) == 0 || var.rfind("PMIX_", 0) == 0)
+      continue;
+    env.push_back(*e);
+  }
+  env.push_back(nullptr);
   const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid < 0) return 127;
@@ -54,7 +66,7 @@ int spawn(const std::vector<std::string>& argv, const std::string& cwd, const st
     const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (o < 0 || e < 0 || dup2(o, 1) < 0 || dup2(e, 2) < 0 || chdir(cwd.c_str()) != 0) _exit(127);
-    execv(args[0], args.data());
+    execve(args[0], args.data(), env.data());
     _exit(127);
   }
   int status = 0;
