@@ -7,13 +7,13 @@
 #include "flagella_sweep/backends.h"
 #include "flagella_sweep/point_runner.h"
 
-#ifdef FLAGELLA_SWEEP_WITH_MPI
+#ifdef FLAGELLA_WITH_MPI
 #include <mpi.h>
 #endif
 
 namespace flagella::sweep {
 
-#ifndef FLAGELLA_SWEEP_WITH_MPI
+#ifndef FLAGELLA_WITH_MPI
 
 bool mpiAvailable() { return false; }
 
