@@ -11,6 +11,7 @@
 #include "flagella_sim/analysis/buckling_probe.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/runtime/distributed_for.h"
+#include "flagella_sim/runtime/exact_json.h"
 #include "flagella_sim/runtime/parallel_for.h"
 #include "flagella_sim/simulation/simulation.h"
 
@@ -26,18 +27,6 @@ constexpr double kStraightRadius = 1e3;
 constexpr int kWindowSamples = 50;
 
 double orZero(double v) { return std::isfinite(v) ? v : 0.0; }
-
-/// A double in JSON, exactly; non-finite values as the strings nan, inf, -inf.
-nlohmann::json exactJson(double v) {
-  if (std::isfinite(v)) return v;
-  return std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
-}
-double exactNumber(const nlohmann::json& j) {
-  if (j.is_number()) return j.get<double>();
-  const std::string s = j.get<std::string>();
-  if (s == "nan") return std::nan("");
-  return s == "inf" ? HUGE_VAL : -HUGE_VAL;
-}
 
 /// A job's evaluation as text, for the ranks of an MPI run (distributed_for.h).
 std::string encodeEvaluation(const Evaluation& e) {

@@ -46,8 +46,8 @@ std::vector<std::string> localShare(int count, int jobs, const std::function<std
 
 #ifdef FLAGELLA_WITH_MPI
 
-MpiScope::MpiScope() {
-  if (!startedByMpirun()) return;
+MpiScope::MpiScope(bool even_alone) {
+  if (!even_alone && !startedByMpirun()) return;
   int initialised = 0;
   MPI_Initialized(&initialised);
   if (!initialised) MPI_Init(nullptr, nullptr);
@@ -68,7 +68,7 @@ bool mpiCompiledIn() { return true; }
 
 #else
 
-MpiScope::MpiScope() {}
+MpiScope::MpiScope(bool) {}
 MpiScope::~MpiScope() {}
 bool mpiCompiledIn() { return false; }
 

@@ -15,6 +15,7 @@
 #include "flagella_sim/analysis/buckling_probe.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/runtime/distributed_for.h"
+#include "flagella_sim/runtime/exact_json.h"
 #include "flagella_sim/runtime/parallel_for.h"
 #include "plot_command.h"
 
@@ -45,38 +46,33 @@ struct Search {
   flagella::WindowThreshold refined;
 };
 
-// A search as text, for the ranks of an MPI sweep (distributed_for.h); doubles exactly, NaN as
-// null.
-nlohmann::json numberJson(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
-}
-double jsonNumber(const nlohmann::json& j) { return j.is_null() ? std::nan("") : j.get<double>(); }
-
+// A search as text, for the ranks of an MPI sweep (distributed_for.h); doubles exactly
+// (exact_json.h).
 nlohmann::json probesText(const std::vector<ThresholdProbe>& runs) {
   nlohmann::json out = nlohmann::json::array();
   for (const ThresholdProbe& p : runs)
-    out.push_back({numberJson(p.rate), p.above, numberJson(p.indicator), numberJson(p.wall_seconds),
-                   p.failed, p.error});
+    out.push_back({flagella::exactJson(p.rate), p.above, flagella::exactJson(p.indicator),
+                   flagella::exactJson(p.wall_seconds), p.failed, p.error});
   return out;
 }
 
 std::vector<ThresholdProbe> probesFrom(const nlohmann::json& j) {
   std::vector<ThresholdProbe> runs;
   for (const nlohmann::json& r : j)
-    runs.push_back({jsonNumber(r[0]), r[1].get<bool>(), jsonNumber(r[2]), jsonNumber(r[3]),
-                    r[4].get<bool>(), r[5].get<std::string>()});
+    runs.push_back({flagella::exactNumber(r[0]), r[1].get<bool>(), flagella::exactNumber(r[2]),
+                    flagella::exactNumber(r[3]), r[4].get<bool>(), r[5].get<std::string>()});
   return runs;
 }
 
 std::string encodeSearch(const Search& s) {
   const ThresholdResult& b = s.bisection;
   return nlohmann::json{{"found", b.found},
-                        {"threshold", numberJson(b.threshold)},
-                        {"low", numberJson(b.low)},
-                        {"high", numberJson(b.high)},
+                        {"threshold", flagella::exactJson(b.threshold)},
+                        {"low", flagella::exactJson(b.low)},
+                        {"high", flagella::exactJson(b.high)},
                         {"runs", probesText(b.runs)},
                         {"message", b.message},
-                        {"refined_threshold", numberJson(s.refined.threshold)},
+                        {"refined_threshold", flagella::exactJson(s.refined.threshold)},
                         {"refined_runs", probesText(s.refined.runs)},
                         {"refined_message", s.refined.message}}
       .dump();
@@ -86,12 +82,12 @@ Search decodeSearch(const std::string& text) {
   const nlohmann::json j = nlohmann::json::parse(text);
   Search s;
   s.bisection.found = j.at("found").get<bool>();
-  s.bisection.threshold = jsonNumber(j.at("threshold"));
-  s.bisection.low = jsonNumber(j.at("low"));
-  s.bisection.high = jsonNumber(j.at("high"));
+  s.bisection.threshold = flagella::exactNumber(j.at("threshold"));
+  s.bisection.low = flagella::exactNumber(j.at("low"));
+  s.bisection.high = flagella::exactNumber(j.at("high"));
   s.bisection.runs = probesFrom(j.at("runs"));
   s.bisection.message = j.at("message").get<std::string>();
-  s.refined.threshold = jsonNumber(j.at("refined_threshold"));
+  s.refined.threshold = flagella::exactNumber(j.at("refined_threshold"));
   s.refined.runs = probesFrom(j.at("refined_runs"));
   s.refined.message = j.at("refined_message").get<std::string>();
   return s;
@@ -234,12 +230,12 @@ int sweep(const Options& o) {
         return encodeSearch(search(configs[i], o, "  [" + key + " = " + values[i] + "] "));
       });
   std::vector<Search> searches;
-  for (const std::string& r : results) searches.push_back(decodeSearch(r));
-  if (!flagella::isRootRank()) {  // rank 0 writes the table
-    for (const Search& s : searches)
-      if (!s.bisection.found) return 3;
-    return 0;
+  int status = 0;  // 3 when a search found no threshold
+  for (const std::string& r : results) {
+    searches.push_back(decodeSearch(r));
+    if (!searches.back().bisection.found) status = 3;
   }
+  if (!flagella::isRootRank()) return status;  // rank 0 writes the table
   std::filesystem::create_directories(o.out_dir);
   const std::string table = o.out_dir + "/buckling_sweep.csv";
   std::ofstream csv(table);
@@ -258,9 +254,7 @@ int sweep(const Options& o) {
   csv.close();
   std::printf("sweep table: %s\n", table.c_str());
   flagella::cli::plotTable(o.plot_script, table, o.out_dir + "/buckling_sweep.png");
-  for (const Search& search : searches)
-    if (!search.bisection.found) return 3;
-  return 0;
+  return status;
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/outputs/output_writers.h"
 #include "flagella_sim/runtime/distributed_for.h"
+#include "flagella_sim/runtime/exact_json.h"
 #include "flagella_sim/runtime/parallel_for.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "plot_command.h"
@@ -97,24 +98,20 @@ struct RunResult {
 };
 
 // A sweep case's result as text, for the ranks of an MPI run (distributed_for.h): the fields the
-// sweep table and its progress lines use, doubles exactly (NaN as null).
-nlohmann::json finiteOrNull(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
-}
-double numberOrNan(const nlohmann::json& j) { return j.is_null() ? std::nan("") : j.get<double>(); }
+// sweep table and its progress lines use, doubles exactly (exact_json.h).
 
 std::string encodeResult(const RunResult& r) {
   const SummaryMetrics& m = r.summary;
   return nlohmann::json{{"failed", r.failed},
                         {"error", r.error},
                         {"wall", r.wall},
-                        {"speed", finiteOrNull(m.speed)},
-                        {"omega_h", finiteOrNull(m.omega_h)},
-                        {"omega_t", finiteOrNull(m.omega_t)},
-                        {"yaw_rate", finiteOrNull(m.yaw_rate)},
+                        {"speed", exactJson(m.speed)},
+                        {"omega_h", exactJson(m.omega_h)},
+                        {"omega_t", exactJson(m.omega_t)},
+                        {"yaw_rate", exactJson(m.yaw_rate)},
                         {"efficiency_valid", m.efficiency_valid},
-                        {"efficiency", finiteOrNull(m.efficiency)},
-                        {"flagellum_tilt_max", finiteOrNull(m.flagellum_tilt_max)},
+                        {"efficiency", exactJson(m.efficiency)},
+                        {"flagellum_tilt_max", exactJson(m.flagellum_tilt_max)},
                         {"buckled", m.buckled}}
       .dump();
 }
@@ -126,13 +123,13 @@ RunResult decodeResult(const std::string& text) {
   r.error = j.at("error").get<std::string>();
   r.wall = j.at("wall").get<double>();
   SummaryMetrics& m = r.summary;
-  m.speed = numberOrNan(j.at("speed"));
-  m.omega_h = numberOrNan(j.at("omega_h"));
-  m.omega_t = numberOrNan(j.at("omega_t"));
-  m.yaw_rate = numberOrNan(j.at("yaw_rate"));
+  m.speed = exactNumber(j.at("speed"));
+  m.omega_h = exactNumber(j.at("omega_h"));
+  m.omega_t = exactNumber(j.at("omega_t"));
+  m.yaw_rate = exactNumber(j.at("yaw_rate"));
   m.efficiency_valid = j.at("efficiency_valid").get<bool>();
-  m.efficiency = numberOrNan(j.at("efficiency"));
-  m.flagellum_tilt_max = numberOrNan(j.at("flagellum_tilt_max"));
+  m.efficiency = exactNumber(j.at("efficiency"));
+  m.flagellum_tilt_max = exactNumber(j.at("flagellum_tilt_max"));
   m.buckled = j.at("buckled").get<bool>();
   return r;
 }

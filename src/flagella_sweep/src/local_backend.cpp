@@ -9,14 +9,18 @@
 
 namespace flagella::sweep {
 
-namespace {
-double now() {
+double steadySeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
-}  // namespace
+
+void RunReport::add(const nlohmann::json& record) {
+  ++ran;
+  if (record["status"] != "ok") ++failed;
+  point_wall += record["wall_s"].get<double>();
+}
 
 Progress::Progress(int total, int already, bool quiet)
-    : total_(total), done_(already), quiet_(quiet), start_(now()) {
+    : total_(total), done_(already), quiet_(quiet), start_(steadySeconds()) {
   if (!quiet_ && already > 0)
     std::fprintf(stderr, "sweep: resuming, %d of %d points already done\n", already, total);
 }
@@ -27,7 +31,7 @@ void Progress::pointDone(const nlohmann::json& record) {
   const bool ok = record["status"] == "ok";
   if (!ok) ++failed_;
   if (quiet_) return;
-  const double elapsed = now() - start_;
+  const double elapsed = steadySeconds() - start_;
   const double eta = elapsed / ran_ * (total_ - done_);
   std::fprintf(stderr, "sweep: %d/%d done (point %d %s, %.1f s)%s; elapsed %.0f s, ETA %.0f s\n",
                done_, total_, record["index"].get<int>(), ok ? "ok" : "FAILED",
@@ -47,20 +51,15 @@ RunReport runLocal(const SweepSpec& spec, const SweepStore& store, int jobs, boo
   Progress progress(report.total, report.already, quiet);
   const std::string tools = executableDirectory();
   std::mutex mutex;
-  const double start = now();
+  const double start = steadySeconds();
   parallelFor(static_cast<int>(todo.size()), jobs, [&](int k) {
-    const double t0 = now();
     const nlohmann::json record = runPoint(spec, todo[k], tools, store.workDirectory(todo[k]));
     store.writeRecord(record);
-    const double own = now() - t0 - record["wall_s"].get<double>();
     std::lock_guard<std::mutex> lock(mutex);
-    ++report.ran;
-    if (record["status"] != "ok") ++report.failed;
-    report.point_wall += record["wall_s"].get<double>();
-    report.runner_wall += own;
+    report.add(record);
     progress.pointDone(record);
   });
-  report.wall = now() - start;
+  report.wall = steadySeconds() - start;
   return report;
 }
 

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "flagella_sim/runtime/distributed_for.h"
 #include "flagella_sweep/backends.h"
 #include "flagella_sweep/point_runner.h"
 
@@ -15,11 +16,9 @@ namespace flagella::sweep {
 
 #ifndef FLAGELLA_WITH_MPI
 
-bool mpiAvailable() { return false; }
-
 RunReport runMpi(const SweepSpec&, const SweepStore&, bool, int&) {
-  throw std::runtime_error(
-      "this flagella_sweep was built without MPI (install libopenmpi-dev and rebuild)");
+  // flagella_sweep refuses --backend mpi before this when built without MPI.
+  throw std::runtime_error("built without MPI");
 }
 
 #else
@@ -27,10 +26,6 @@ RunReport runMpi(const SweepSpec&, const SweepStore&, bool, int&) {
 namespace {
 
 enum Tag { kReady = 1, kWork = 2, kStop = 3 };
-
-double now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 /// Receives a text message from any rank; returns the sender. Polls with a short sleep instead
 /// of a blocking probe: OpenMPI's blocking calls spin, and a spinning rank 0 would take a core
@@ -57,13 +52,10 @@ void sendText(const std::string& text, int to, int tag) {
 
 }  // namespace
 
-bool mpiAvailable() { return true; }
-
 RunReport runMpi(const SweepSpec& spec, const SweepStore& store, bool quiet, int& rank) {
-  MPI_Init(nullptr, nullptr);
-  int size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const MpiScope mpi(true);
+  rank = mpiRank();
+  const int size = mpiSize();
   RunReport report;
   const std::string tools = executableDirectory();
   if (rank != 0) {  // worker: ask, run, answer with the record, until told to stop
@@ -76,7 +68,6 @@ RunReport runMpi(const SweepSpec& spec, const SweepStore& store, bool quiet, int
       const int index = std::stoi(text);
       sendText(runPoint(spec, index, tools, store.workDirectory(index)).dump(), 0, kReady);
     }
-    MPI_Finalize();
     return report;
   }
   report.total = static_cast<int>(spec.points.size());
@@ -84,12 +75,10 @@ RunReport runMpi(const SweepSpec& spec, const SweepStore& store, bool quiet, int
   report.already = report.total - static_cast<int>(todo.size());
   report.workers = size > 1 ? size - 1 : 1;
   Progress progress(report.total, report.already, quiet);
-  const double start = now();
+  const double start = steadySeconds();
   auto store_record = [&](const nlohmann::json& record) {
     store.writeRecord(record);
-    ++report.ran;
-    if (record["status"] != "ok") ++report.failed;
-    report.point_wall += record["wall_s"].get<double>();
+    report.add(record);
     progress.pointDone(record);
   };
   std::size_t next = 0;
@@ -110,8 +99,7 @@ RunReport runMpi(const SweepSpec& spec, const SweepStore& store, bool quiet, int
       }
     }
   }
-  report.wall = now() - start;
-  MPI_Finalize();
+  report.wall = steadySeconds() - start;
   return report;
 }
 

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/runtime/distributed_for.h"
 #include "flagella_sim/runtime/parallel_for.h"
 #include "flagella_sweep/backends.h"
 #include "flagella_sweep/point_runner.h"
@@ -109,7 +110,9 @@ int runCommand(const Options& o) {
     return finish(spec, store, o);
   }
   if (o.backend == "mpi") {
-    if (!mpiAvailable()) throw std::runtime_error("this flagella_sweep was built without MPI");
+    if (!flagella::mpiCompiledIn())
+      throw std::runtime_error(
+          "this flagella_sweep was built without MPI (install libopenmpi-dev and rebuild)");
     int rank = 0;
     // Every rank checks the plan: a rank that cannot see the folder fails loudly.
     store.open(spec);

@@ -17,17 +17,21 @@
 namespace flagella::sweep {
 
 struct RunReport {
-  int total = 0;             ///< points in the sweep
-  int already = 0;           ///< records present before this run
-  int ran = 0;               ///< points run now
-  int failed = 0;            ///< of those, failed
-  double wall = 0.0;         ///< this run's wall time [s]
-  double point_wall = 0.0;   ///< sum of the points' own wall times [s]
-  double runner_wall = 0.0;  ///< sum over points of the runner's own time around each [s]
+  int total = 0;            ///< points in the sweep
+  int already = 0;          ///< records present before this run
+  int ran = 0;              ///< points run now
+  int failed = 0;           ///< of those, failed
+  double wall = 0.0;        ///< this run's wall time [s]
+  double point_wall = 0.0;  ///< sum of the points' own wall times [s]
   int workers = 1;
+  /// Counts a point's record (ran, failed, point_wall).
+  void add(const nlohmann::json& record);
 };
 
 /// Progress line per finished point on stderr (done/total, failures, ETA) unless quiet.
+/// Seconds of the steady clock.
+double steadySeconds();
+
 class Progress {
  public:
   Progress(int total, int already, bool quiet);
@@ -41,9 +45,8 @@ class Progress {
 
 RunReport runLocal(const SweepSpec& spec, const SweepStore& store, int jobs, bool quiet);
 
-/// True when built with MPI.
-bool mpiAvailable();
-/// Runs under MPI (MPI_Init .. MPI_Finalize inside). Returns the report on rank 0; on the other
+/// Runs under MPI (MpiScope of distributed_for.h inside; flagella::mpiCompiledIn tells whether
+/// this build has MPI). Returns the report on rank 0; on the other
 /// ranks `rank` is set > 0 and the report is empty.
 RunReport runMpi(const SweepSpec& spec, const SweepStore& store, bool quiet, int& rank);
 

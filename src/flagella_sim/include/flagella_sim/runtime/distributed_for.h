@@ -14,10 +14,12 @@
 namespace flagella {
 
 /// Initialises MPI for the scope of a tool's main when it was started by mpirun (OpenMPI's
-/// OMPI_COMM_WORLD_SIZE or a PMI_SIZE in the environment) with more than one rank.
+/// OMPI_COMM_WORLD_SIZE or a PMI_SIZE in the environment) with more than one rank, or always
+/// with `even_alone` (flagella_sweep's mpi backend, which also runs as a single rank); finalises
+/// it at the end of the scope. A no-op when built without MPI.
 class MpiScope {
  public:
-  MpiScope();
+  explicit MpiScope(bool even_alone = false);
   ~MpiScope();
   MpiScope(const MpiScope&) = delete;
   MpiScope& operator=(const MpiScope&) = delete;
