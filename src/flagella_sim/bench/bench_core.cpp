@@ -1,5 +1,6 @@
-// Benchmark program: real-time factor of the shipped robots and time per step against node
-// count (with the fitted scaling exponent). Prints figures; asserts nothing.
+// Benchmark program: where a step of the shipped robots spends its time (profile by part), their
+// real-time factor and step time against one factorization + solve, and time per step against
+// node count (with the fitted scaling exponent). Prints figures; asserts nothing.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -48,13 +49,44 @@ Timing timeConfig(const std::string& path, const std::vector<std::string>& overr
   return {median, dt / median, iterations.back()};
 }
 
+// One profiled run (Simulation::run, so with its output sampling): where a step's time goes.
+// Returns the time of one factorization plus one solve [s].
+double printProfile(const std::string& label, const std::string& path,
+                    const std::vector<std::string>& overrides, double sim_seconds) {
+  const SimulationConfig config = loadSimulationConfig(path, overrides);
+  Simulation sim(config);
+  sim.run(kWarmupSeconds);
+  StepProfile p;
+  sim.setProfile(&p);
+  const auto t0 = std::chrono::steady_clock::now();
+  sim.run(sim_seconds);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  sim.setProfile(nullptr);
+  const double n = static_cast<double>(p.steps);
+  auto us = [&](double seconds) { return 1e6 * seconds / n; };
+  const double factor_solve = (p.factorizations ? p.factorization / p.factorizations : 0.0) +
+                              (p.updates ? p.solve / p.updates : 0.0);
+  std::printf("%s: us per step by part (profiled run of %.0f s, with output)\n", label.c_str(),
+              sim_seconds);
+  std::printf(
+      "  frames %.1f | elastic %.1f | effects %.1f | assembly %.1f | factorization %.1f | "
+      "solve %.1f | convergence %.1f | other %.1f | output %.1f | step %.1f\n",
+      us(p.frames), us(p.elastic), us(p.effects), us(p.assembly), us(p.factorization), us(p.solve),
+      us(p.convergence), us(p.other()), us(wall - p.total), us(wall));
+  std::printf(
+      "  per step: %.2f Newton updates, %.2f residuals, %.3f Jacobians, %.3f factorizations;"
+      " one factorization + solve %.1f us; step / (factorization + solve) = %.2f\n",
+      p.updates / n, p.residuals / n, p.jacobians / n, p.factorizations / n, 1e6 * factor_solve,
+      factor_solve > 0 ? (wall / n) / factor_solve : 0.0);
+  return factor_solve;
+}
+
 }  // namespace
 
 int run(const std::string& config_dir) {
   std::printf("flagella core benchmark (one core, median of %d runs, after %.0f s warm-up)\n\n",
               kRepeats, kWarmupSeconds);
-  std::printf("%-44s %10s %12s %14s %10s\n", "case", "DOFs", "us/step", "real-time x",
-              "Newton/step");
+  std::printf("where a step's time goes (LU + solve: one sparse factorization and one solve)\n");
   struct Case {
     std::string label, file;
     std::vector<std::string> overrides;
@@ -70,12 +102,19 @@ int run(const std::string& config_dir) {
        "interface_robot.yaml",
        {"robot.n_tails=2", "simulation.dt=0.01"}},
   };
-  for (const Case& c : cases) {
+  std::vector<double> factor_solve;
+  for (const Case& c : cases)
+    factor_solve.push_back(printProfile(c.label, config_dir + "/" + c.file, c.overrides, 20.0));
+  std::printf("\n%-44s %8s %10s %12s %12s %16s\n", "case", "DOFs", "us/step", "real-time x",
+              "Newton/step", "step/(LU+solve)");
+  for (size_t k = 0; k < cases.size(); ++k) {
+    const Case& c = cases[k];
     const SimulationConfig config = loadSimulationConfig(config_dir + "/" + c.file, c.overrides);
     const int dofs = Simulation(config).network().ndof();
     const Timing t = timeConfig(config_dir + "/" + c.file, c.overrides, 20.0);
-    std::printf("%-44s %10d %12.1f %14.1f %10.2f\n", c.label.c_str(), dofs,
-                1e6 * t.seconds_per_step, t.real_time_factor, t.newton_per_step);
+    std::printf("%-44s %8d %10.1f %12.1f %12.2f %16.2f\n", c.label.c_str(), dofs,
+                1e6 * t.seconds_per_step, t.real_time_factor, t.newton_per_step,
+                t.seconds_per_step / factor_solve[k]);
   }
 
   std::printf("\ntime per step against node count (design 1, n = 3, 100 rpm, dt = 1e-2)\n");

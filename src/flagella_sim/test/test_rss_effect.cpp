@@ -158,7 +158,7 @@ struct Sediment {
 };
 
 Sediment sediment(bool implicit, double dt, double duration,
-                  double jacobian_reuse = NewtonOptions().dense_jacobian_reuse) {
+                  double jacobian_reuse = NewtonOptions().jacobian_reuse) {
   RodMaterial m = testing::vpsMaterial();
   m.radius = 1e-3;
   m.youngs_modulus = 1e9;  // nearly rigid: the result is compared with a rigid rod
@@ -184,7 +184,7 @@ Sediment sediment(bool implicit, double dt, double duration,
   options.force_scale = 1e-4;
   options.moment_scale = 1e-5;
   options.length_scale = 0.1;
-  options.dense_jacobian_reuse = jacobian_reuse;
+  options.jacobian_reuse = jacobian_reuse;
   ImplicitStepper stepper(rod, std::move(effects), medium, options);
   EXPECT_EQ(stepper.denseLinearSolve(), implicit);
   RodState s = stepper.initialState();
@@ -237,7 +237,7 @@ TEST(RssEffect, SedimentingRodBalancesLoadInEveryOption) {
 }
 
 TEST(RssEffect, ChordStepsReuseTheDenseJacobianWithoutChangingTheAnswer) {
-  // NewtonOptions::dense_jacobian_reuse: the factorised Jacobian serves later updates while
+  // NewtonOptions::jacobian_reuse: the factorised Jacobian serves later updates while
   // Newton contracts; the same residual test decides convergence, so the balance law holds and
   // the answer matches refactoring every iteration.
   const Sediment fresh = sediment(true, 1e-3, 0.05, 0.0);

@@ -51,10 +51,10 @@ constexpr double kTimeout = 0.2;  // [s]
 // Overrides that make every Newton solve impossible: one iteration cannot reach 1e-14.
 const std::vector<std::string> kImpossibleSolver{
     "solver.max_iterations=1", "solver.residual_tolerance=1e-14", "solver.max_subdivision_depth=2"};
-// A marginal solver: 4 iterations and no subdivision follow the motor's 2 s soft start to steady
+// A marginal solver: 2 iterations and no subdivision follow the motor's 2 s soft start to steady
 // 100 rpm, but neither an abrupt reversal nor an abrupt stop from there converges.
 const std::vector<std::string> kMarginalSolver{
-    "solver.max_iterations=4", "solver.max_subdivision_depth=0", "motor.ramp_time=2"};
+    "solver.max_iterations=2", "solver.max_subdivision_depth=0", "motor.ramp_time=2"};
 constexpr int kMarginalWarmupSteps = 300;
 
 std::string shippedConfig(const std::string& name) { return std::string(kConfigDir) + "/" + name; }

@@ -348,8 +348,10 @@ void expectSingleAnalysis(const std::string& config_name) {
     }
   }
   EXPECT_EQ(sim.stepper().totalAnalyses(), 1);
+  // Every step's first update factors a fresh Jacobian; chord updates reuse it
+  // (docs/model.md 1.10).
   EXPECT_GE(sim.stepper().totalFactorizations(), kManySteps);
-  EXPECT_GE(sim.stepper().totalFactorizations(), iterations);
+  EXPECT_LE(sim.stepper().totalFactorizations(), iterations);
   const SparseLuSolver& lu = sim.stepper().linearSolver();
   EXPECT_EQ(lu.numericFactorizations() + lu.refactorizations(),
             sim.stepper().totalFactorizations());

@@ -16,14 +16,12 @@ Mat3 skew(const Vec3& a) {
 }
 
 Vec3 parallelTransport(const Vec3& u, const Vec3& a, const Vec3& b) {
-  // docs/model.md 1.3: P(u) = (u.a) b + (u.n1) n2 + (u.bhat) bhat
-  const Vec3 bvec = a.cross(b);
-  const double norm = bvec.norm();
-  if (norm < kParallelTolerance) return u;
-  const Vec3 bhat = bvec / norm;
-  const Vec3 n1 = a.cross(bhat);
-  const Vec3 n2 = b.cross(bhat);
-  return u.dot(a) * b + u.dot(n1) * n2 + u.dot(bhat) * bhat;
+  // docs/model.md 1.3: the rotation about a x b taking a to b, in Rodrigues' form without
+  // trigonometry: P(u) = c u + (a x b) x u + ((a x b).u / (1 + c)) (a x b), c = a.b
+  const Vec3 axis = a.cross(b);
+  const double c = a.dot(b);
+  if (axis.squaredNorm() < kParallelTolerance * kParallelTolerance) return u;
+  return c * u + axis.cross(u) + (axis.dot(u) / (1.0 + c)) * axis;
 }
 
 double angleBetween(const Vec3& u, const Vec3& v) {
@@ -34,6 +32,10 @@ double signedAngle(const Vec3& u, const Vec3& v, const Vec3& n) {
   const Vec3 w = u.cross(v);
   const double angle = std::atan2(w.norm(), u.dot(v));
   return n.dot(w) < 0.0 ? -angle : angle;
+}
+
+double angleAbout(const Vec3& u, const Vec3& v, const Vec3& n) {
+  return std::atan2(n.dot(u.cross(v)), u.dot(v));
 }
 
 Vec3 rotateAboutAxis(const Vec3& v, const Vec3& k, double angle) {

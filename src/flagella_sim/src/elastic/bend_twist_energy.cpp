@@ -23,8 +23,7 @@ SpringVector nodeGradient(const EdgeVector& g) {
 
 // docs/model.md 1.5: H_pp = g_ee, H_pc = -g_ee + g_ef, H_pq = -g_ef, H_cc = g_ee - g_ef - g_fe +
 // g_ff, H_cq = g_ef - g_ff, H_qq = g_ff; theta columns map like the gradient.
-SpringMatrix nodeHessian(const EdgeMatrix& h) {
-  SpringMatrix out;
+void nodeHessian(const EdgeMatrix& h, SpringMatrix& out) {
   const Mat3 ee = h.block<3, 3>(0, 0), ef = h.block<3, 3>(0, 3), fe = h.block<3, 3>(3, 0),
              ff = h.block<3, 3>(3, 3);
   out.block<3, 3>(0, 0) = ee;
@@ -46,106 +45,101 @@ SpringMatrix nodeHessian(const EdgeMatrix& h) {
     out(9 + k, 9) = h(6 + k, 6);
     out(9 + k, 10) = h(6 + k, 7);
   }
-  return out;
 }
 
 Mat3 sym(const Vec3& a, const Vec3& b) { return a * b.transpose() + b * a.transpose(); }
 
-struct CurvatureDerivatives {
-  EdgeVector grad1, grad2, grad_tau;
-  EdgeMatrix hess1, hess2, hess_tau;
+// Quantities shared by the curvature derivatives of one spring (docs/model.md 1.5).
+struct CurvatureFrame {
+  double chi;         ///< 1 + t_e . t_f
+  Vec3 tt, mt1, mt2;  ///< (t_e + t_f) / chi, (m1e + m1f) / chi, (m2e + m2f) / chi
+  Vec3 tf_x_mt1, tf_x_mt2, te_x_mt1, te_x_mt2;
 };
 
-// docs/model.md 1.5: gradients and Hessians of kappa1, kappa2 and tau in edge space.
-CurvatureDerivatives curvatureDerivatives(const SpringGeometry& g, bool with_hessian) {
-  CurvatureDerivatives d;
-  const double chi = 1.0 + g.te.dot(g.tf);
-  const Vec3 tt = (g.te + g.tf) / chi;
-  const Vec3 mt1 = (g.m1e + g.m1f) / chi;
-  const Vec3 mt2 = (g.m2e + g.m2f) / chi;
+CurvatureFrame curvatureFrame(const SpringGeometry& g) {
+  CurvatureFrame c;
+  c.chi = 1.0 + g.te.dot(g.tf);
+  c.tt = (g.te + g.tf) / c.chi;
+  c.mt1 = (g.m1e + g.m1f) / c.chi;
+  c.mt2 = (g.m2e + g.m2f) / c.chi;
+  c.tf_x_mt1 = g.tf.cross(c.mt1);
+  c.tf_x_mt2 = g.tf.cross(c.mt2);
+  c.te_x_mt1 = g.te.cross(c.mt1);
+  c.te_x_mt2 = g.te.cross(c.mt2);
+  return c;
+}
+
+struct CurvatureGradients {
+  EdgeVector kappa1, kappa2, tau;
+};
+
+// docs/model.md 1.5: gradients of kappa1, kappa2 and tau in edge space.
+CurvatureGradients curvatureGradients(const SpringGeometry& g, const CurvatureFrame& c) {
+  CurvatureGradients d;
   const double le = g.len_e, lf = g.len_f;
-  const double k1 = g.kappa1, k2 = g.kappa2;
-  const Vec3 tf_x_mt1 = g.tf.cross(mt1), tf_x_mt2 = g.tf.cross(mt2);
-  const Vec3 te_x_mt1 = g.te.cross(mt1), te_x_mt2 = g.te.cross(mt2);
-
-  d.grad1.segment<3>(0) = (-k1 * tt + tf_x_mt2) / le;
-  d.grad1.segment<3>(3) = (-k1 * tt - te_x_mt2) / lf;
-  d.grad1(6) = -0.5 * g.kb.dot(g.m1e);
-  d.grad1(7) = -0.5 * g.kb.dot(g.m1f);
-  d.grad2.segment<3>(0) = (-k2 * tt - tf_x_mt1) / le;
-  d.grad2.segment<3>(3) = (-k2 * tt + te_x_mt1) / lf;
-  d.grad2(6) = -0.5 * g.kb.dot(g.m2e);
-  d.grad2(7) = -0.5 * g.kb.dot(g.m2f);
-  d.grad_tau.segment<3>(0) = g.kb / (2.0 * le);
-  d.grad_tau.segment<3>(3) = g.kb / (2.0 * lf);
-  d.grad_tau(6) = -1.0;
-  d.grad_tau(7) = 1.0;
-  if (!with_hessian) return d;
-
-  const Mat3 I = Mat3::Identity();
-  const Mat3 tt_tt = tt * tt.transpose();
-  const Mat3 pe = I - g.te * g.te.transpose();
-  const Mat3 pf = I - g.tf * g.tf.transpose();
-  const Mat3 cross_ef = I + g.te * g.tf.transpose();
-
-  d.hess1.setZero();
-  d.hess1.block<3, 3>(0, 0) =
-      (2.0 * k1 * tt_tt - tf_x_mt2 * tt.transpose() - tt * tf_x_mt2.transpose()) / (le * le) -
-      k1 / (chi * le * le) * pe + sym(g.kb, g.m2e) / (4.0 * le * le);
-  d.hess1.block<3, 3>(3, 3) =
-      (2.0 * k1 * tt_tt + te_x_mt2 * tt.transpose() + tt * te_x_mt2.transpose()) / (lf * lf) -
-      k1 / (chi * lf * lf) * pf + sym(g.kb, g.m2f) / (4.0 * lf * lf);
-  const Mat3 h1_ef =
-      -k1 / (chi * le * lf) * cross_ef +
-      (2.0 * k1 * tt_tt - tf_x_mt2 * tt.transpose() + tt * te_x_mt2.transpose() - skew(mt2)) /
-          (le * lf);
-  d.hess1.block<3, 3>(0, 3) = h1_ef;
-  d.hess1.block<3, 3>(3, 0) = h1_ef.transpose();
-  d.hess1(6, 6) = -0.5 * g.kb.dot(g.m2e);
-  d.hess1(7, 7) = -0.5 * g.kb.dot(g.m2f);
-
-  d.hess2.setZero();
-  d.hess2.block<3, 3>(0, 0) =
-      (2.0 * k2 * tt_tt + tf_x_mt1 * tt.transpose() + tt * tf_x_mt1.transpose()) / (le * le) -
-      k2 / (chi * le * le) * pe - sym(g.kb, g.m1e) / (4.0 * le * le);
-  d.hess2.block<3, 3>(3, 3) =
-      (2.0 * k2 * tt_tt - te_x_mt1 * tt.transpose() - tt * te_x_mt1.transpose()) / (lf * lf) -
-      k2 / (chi * lf * lf) * pf - sym(g.kb, g.m1f) / (4.0 * lf * lf);
-  const Mat3 h2_ef =
-      -k2 / (chi * le * lf) * cross_ef +
-      (2.0 * k2 * tt_tt + tf_x_mt1 * tt.transpose() - tt * te_x_mt1.transpose() + skew(mt1)) /
-          (le * lf);
-  d.hess2.block<3, 3>(0, 3) = h2_ef;
-  d.hess2.block<3, 3>(3, 0) = h2_ef.transpose();
-  d.hess2(6, 6) = 0.5 * g.kb.dot(g.m1e);
-  d.hess2(7, 7) = 0.5 * g.kb.dot(g.m1f);
-
-  // Position-theta cross blocks (docs/model.md 1.5), for theta_E (column 6) and theta_F (column 7).
-  const Vec3* m1[2] = {&g.m1e, &g.m1f};
-  const Vec3* m2[2] = {&g.m2e, &g.m2f};
-  for (int k = 0; k < 2; ++k) {
-    const int col = 6 + k;
-    const Vec3 k1_e = (0.5 * g.kb.dot(*m1[k]) * tt - g.tf.cross(*m1[k]) / chi) / le;
-    const Vec3 k1_f = (0.5 * g.kb.dot(*m1[k]) * tt + g.te.cross(*m1[k]) / chi) / lf;
-    const Vec3 k2_e = (0.5 * g.kb.dot(*m2[k]) * tt - g.tf.cross(*m2[k]) / chi) / le;
-    const Vec3 k2_f = (0.5 * g.kb.dot(*m2[k]) * tt + g.te.cross(*m2[k]) / chi) / lf;
-    d.hess1.block<3, 1>(0, col) = k1_e;
-    d.hess1.block<3, 1>(3, col) = k1_f;
-    d.hess1.block<1, 3>(col, 0) = k1_e.transpose();
-    d.hess1.block<1, 3>(col, 3) = k1_f.transpose();
-    d.hess2.block<3, 1>(0, col) = k2_e;
-    d.hess2.block<3, 1>(3, col) = k2_f;
-    d.hess2.block<1, 3>(col, 0) = k2_e.transpose();
-    d.hess2.block<1, 3>(col, 3) = k2_f.transpose();
-  }
-
-  d.hess_tau.setZero();
-  d.hess_tau.block<3, 3>(0, 0) = -sym(g.kb, g.te + tt) / (4.0 * le * le);
-  d.hess_tau.block<3, 3>(3, 3) = -sym(g.kb, g.tf + tt) / (4.0 * lf * lf);
-  const Mat3 ht_ef = ((2.0 / chi) * skew(g.te) - g.kb * tt.transpose()) / (2.0 * le * lf);
-  d.hess_tau.block<3, 3>(0, 3) = ht_ef;
-  d.hess_tau.block<3, 3>(3, 0) = ht_ef.transpose();
+  d.kappa1.segment<3>(0) = (-g.kappa1 * c.tt + c.tf_x_mt2) / le;
+  d.kappa1.segment<3>(3) = (-g.kappa1 * c.tt - c.te_x_mt2) / lf;
+  d.kappa1(6) = -0.5 * g.kb.dot(g.m1e);
+  d.kappa1(7) = -0.5 * g.kb.dot(g.m1f);
+  d.kappa2.segment<3>(0) = (-g.kappa2 * c.tt - c.tf_x_mt1) / le;
+  d.kappa2.segment<3>(3) = (-g.kappa2 * c.tt + c.te_x_mt1) / lf;
+  d.kappa2(6) = -0.5 * g.kb.dot(g.m2e);
+  d.kappa2(7) = -0.5 * g.kb.dot(g.m2f);
+  d.tau.segment<3>(0) = g.kb / (2.0 * le);
+  d.tau.segment<3>(3) = g.kb / (2.0 * lf);
+  d.tau(6) = -1.0;
+  d.tau(7) = 1.0;
   return d;
+}
+
+// docs/model.md 1.5: w1 Hess(kappa1) + w2 Hess(kappa2) + wt Hess(tau) in edge space, summed block
+// by block (the three Hessians are never formed on their own). With K = w1 kappa1 + w2 kappa2,
+//   H_ee = [2K tt tt^T + sym(v_e, tt) - (K/chi) P_e + sym(kb, u_e)] / le^2,
+//   H_ff = [2K tt tt^T + sym(v_f, tt) - (K/chi) P_f + sym(kb, u_f)] / lf^2,
+//   H_ef = [-(K/chi)(I + t_e t_f^T) + 2K tt tt^T + v_e tt^T + tt v_f^T
+//           + [w2 mt1 - w1 mt2 + (wt/chi) t_e]_x - (wt/2) kb tt^T] / (le lf),
+// v_e = w2 (t_f x mt1) - w1 (t_f x mt2), v_f = w1 (t_e x mt2) - w2 (t_e x mt1),
+// u_e = (w1 m2e - w2 m1e - wt (t_e + tt)) / 4, u_f = (w1 m2f - w2 m1f - wt (t_f + tt)) / 4;
+// theta columns with n_k = w1 m1_k + w2 m2_k (k = E, F):
+//   H_e,k = (kb.n_k tt / 2 - t_f x n_k / chi) / le,  H_f,k = (kb.n_k tt / 2 + t_e x n_k / chi) /
+//   lf, H_EE = kb.(w2 m1e - w1 m2e) / 2, H_FF = kb.(w2 m1f - w1 m2f) / 2.
+EdgeMatrix weightedCurvatureHessian(const SpringGeometry& g, const CurvatureFrame& c, double w1,
+                                    double w2, double wt) {
+  const double le = g.len_e, lf = g.len_f, chi = c.chi;
+  const double K = w1 * g.kappa1 + w2 * g.kappa2;
+  const Mat3 I = Mat3::Identity();
+  const Mat3 tt_tt = (2.0 * K) * (c.tt * c.tt.transpose());
+  const Vec3 v_e = w2 * c.tf_x_mt1 - w1 * c.tf_x_mt2;
+  const Vec3 v_f = w1 * c.te_x_mt2 - w2 * c.te_x_mt1;
+  const Vec3 u_e = 0.25 * (w1 * g.m2e - w2 * g.m1e - wt * (g.te + c.tt));
+  const Vec3 u_f = 0.25 * (w1 * g.m2f - w2 * g.m1f - wt * (g.tf + c.tt));
+  const double k_chi = K / chi;
+  EdgeMatrix h;
+  h.block<3, 3>(0, 0) =
+      (tt_tt + sym(v_e, c.tt) - k_chi * (I - g.te * g.te.transpose()) + sym(g.kb, u_e)) / (le * le);
+  h.block<3, 3>(3, 3) =
+      (tt_tt + sym(v_f, c.tt) - k_chi * (I - g.tf * g.tf.transpose()) + sym(g.kb, u_f)) / (lf * lf);
+  const Mat3 ef = (-k_chi * (I + g.te * g.tf.transpose()) + tt_tt + v_e * c.tt.transpose() +
+                   c.tt * v_f.transpose() + skew(w2 * c.mt1 - w1 * c.mt2 + (wt / chi) * g.te) -
+                   (0.5 * wt) * g.kb * c.tt.transpose()) /
+                  (le * lf);
+  h.block<3, 3>(0, 3) = ef;
+  h.block<3, 3>(3, 0) = ef.transpose();
+  const Vec3 n[2] = {w1 * g.m1e + w2 * g.m2e, w1 * g.m1f + w2 * g.m2f};
+  for (int k = 0; k < 2; ++k) {
+    const double along = 0.5 * g.kb.dot(n[k]);
+    const Vec3 col_e = (along * c.tt - g.tf.cross(n[k]) / chi) / le;
+    const Vec3 col_f = (along * c.tt + g.te.cross(n[k]) / chi) / lf;
+    h.block<3, 1>(0, 6 + k) = col_e;
+    h.block<3, 1>(3, 6 + k) = col_f;
+    h.block<1, 3>(6 + k, 0) = col_e.transpose();
+    h.block<1, 3>(6 + k, 3) = col_f.transpose();
+  }
+  h(6, 6) = 0.5 * g.kb.dot(w2 * g.m1e - w1 * g.m2e);
+  h(7, 7) = 0.5 * g.kb.dot(w2 * g.m1f - w1 * g.m2f);
+  h(6, 7) = 0.0;
+  h(7, 6) = 0.0;
+  return h;
 }
 
 }  // namespace
@@ -160,17 +154,18 @@ SpringEnergyTerms bendTwistTerms(const SpringGeometry& g, const BendTwistSpring&
   const double dtau = g.tau - s.tau_bar;
   // docs/model.md 1.4: E_b = EI/(2 l_c) (dk1^2 + dk2^2), E_t = GJ/(2 l_c) dtau^2
   out.energy = 0.5 * bend_k * (dk1 * dk1 + dk2 * dk2) + 0.5 * twist_k * dtau * dtau;
-  const CurvatureDerivatives d = curvatureDerivatives(g, with_hessian);
-  const EdgeVector grad_edge =
-      bend_k * (dk1 * d.grad1 + dk2 * d.grad2) + twist_k * dtau * d.grad_tau;
+  const CurvatureFrame frame = curvatureFrame(g);
+  const CurvatureGradients d = curvatureGradients(g, frame);
+  const EdgeVector grad_edge = bend_k * (dk1 * d.kappa1 + dk2 * d.kappa2) + twist_k * dtau * d.tau;
   out.gradient = nodeGradient(grad_edge);
   if (with_hessian) {
     // docs/model.md 1.5: Hess E_b = (EI/l_c)(g1 g1^T + g2 g2^T + dk1 H1 + dk2 H2), likewise E_t
-    EdgeMatrix hess_edge = bend_k * (dk1 * d.hess1 + dk2 * d.hess2) + twist_k * dtau * d.hess_tau;
-    hess_edge.noalias() += bend_k * d.grad1.lazyProduct(d.grad1.transpose());
-    hess_edge.noalias() += bend_k * d.grad2.lazyProduct(d.grad2.transpose());
-    hess_edge.noalias() += twist_k * d.grad_tau.lazyProduct(d.grad_tau.transpose());
-    out.hessian = nodeHessian(hess_edge);
+    EdgeMatrix hess_edge =
+        weightedCurvatureHessian(g, frame, bend_k * dk1, bend_k * dk2, twist_k * dtau);
+    hess_edge.noalias() += bend_k * d.kappa1.lazyProduct(d.kappa1.transpose());
+    hess_edge.noalias() += bend_k * d.kappa2.lazyProduct(d.kappa2.transpose());
+    hess_edge.noalias() += twist_k * d.tau.lazyProduct(d.tau.transpose());
+    nodeHessian(hess_edge, out.hessian);
   }
   return out;
 }
@@ -208,11 +203,13 @@ void addBendTwistGradientHessian(const RodNetwork& net, const VecX& q,
     driven = net.bend_twist_springs.at(twist.spring);
     driven.tau_bar = twist.tau_bar;
   }
+  thread_local MaterialFrames material;  // storage reused across calls
+  materialFrames(net, q, frames, material);
   for (size_t i = 0; i < net.bend_twist_springs.size(); ++i) {
     const BendTwistSpring& s =
         static_cast<int>(i) == twist.spring ? driven : net.bend_twist_springs[i];
-    const SpringEnergyTerms terms =
-        bendTwistTerms(springGeometry(net, s, q, frames, static_cast<int>(i)), s, hessian);
+    const SpringEnergyTerms terms = bendTwistTerms(
+        springGeometry(net, s, q, frames, material, static_cast<int>(i)), s, hessian);
     const SpringDofMap map = springDofMap(net, s);
     // docs/model.md 1.6: dE/dtheta^g = s_g dE/dtheta_loc; mixed entries carry both signs
     for (int a = 0; a < 11; ++a) gradient(map.index[a]) += map.sign[a] * terms.gradient(a);

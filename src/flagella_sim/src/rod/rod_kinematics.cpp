@@ -10,6 +10,8 @@ namespace flagella {
 
 namespace {
 
+constexpr double kTwoPi = 6.283185307179586;
+
 Vec3 edgeVector(const RodNetwork& net, const VecX& q, int edge) {
   const EdgeDef& e = net.edges[edge];
   return nodePosition(q, e.end_node) - nodePosition(q, e.start_node);
@@ -28,7 +30,7 @@ double directReferenceTwist(const BendTwistSpring& s, const ReferenceFrames& fr)
   const Vec3 tf = s.sign_f * fr.tangent[s.edge_f];
   const Vec3 d1e = s.sign_e * fr.d1[s.edge_e];
   const Vec3 d1f = s.sign_f * fr.d1[s.edge_f];
-  return signedAngle(parallelTransport(d1e, te, tf), d1f, tf);
+  return angleAbout(parallelTransport(d1e, te, tf), d1f, tf);
 }
 
 }  // namespace
@@ -83,11 +85,18 @@ ReferenceFrames initialFrames(const RodNetwork& net, const VecX& q, int root_edg
 
 ReferenceFrames transportFrames(const RodNetwork& net, const VecX& q,
                                 const ReferenceFrames& previous) {
-  const int ne = net.numEdges();
   ReferenceFrames fr;
-  fr.tangent = unitTangents(net, q);
+  transportFrames(net, q, previous, fr);
+  return fr;
+}
+
+void transportFrames(const RodNetwork& net, const VecX& q, const ReferenceFrames& previous,
+                     ReferenceFrames& fr) {
+  const int ne = net.numEdges();
+  fr.tangent.resize(ne);
   fr.d1.resize(ne);
   fr.d2.resize(ne);
+  for (int j = 0; j < ne; ++j) fr.tangent[j] = edgeVector(net, q, j).normalized();
   for (int j = 0; j < ne; ++j) {
     // docs/model.md 1.7: d1(iterate) = P_{t(t_k) -> t(iterate)} d1(t_k), d2 = t x d1
     const Vec3 d1 = parallelTransport(previous.d1[j], previous.tangent[j], fr.tangent[j]);
@@ -96,21 +105,38 @@ ReferenceFrames transportFrames(const RodNetwork& net, const VecX& q,
   }
   fr.reference_twist.resize(net.bend_twist_springs.size());
   for (size_t s = 0; s < net.bend_twist_springs.size(); ++s) {
-    // docs/model.md 1.3: rotate P(d1_E) by the previous m_ref about t_f, add the small signed angle
     const BendTwistSpring& sp = net.bend_twist_springs[s];
     const Vec3 te = sp.sign_e * fr.tangent[sp.edge_e];
     const Vec3 tf = sp.sign_f * fr.tangent[sp.edge_f];
     const Vec3 d1e = sp.sign_e * fr.d1[sp.edge_e];
     const Vec3 d1f = sp.sign_f * fr.d1[sp.edge_f];
+    // docs/model.md 1.3: m_ref = old + (the signed angle from P(d1_E) rotated by old about t_f to
+    // d1_F), i.e. old + the angle from P(d1_E) to d1_F minus old, wrapped to (-pi, pi]
     const double old_twist = previous.reference_twist[s];
-    const Vec3 transported = rotateAboutAxis(parallelTransport(d1e, te, tf), tf, old_twist);
-    fr.reference_twist[s] = old_twist + signedAngle(transported, d1f, tf);
+    const double change = angleAbout(parallelTransport(d1e, te, tf), d1f, tf) - old_twist;
+    fr.reference_twist[s] = old_twist + (change - kTwoPi * std::round(change / kTwoPi));
   }
-  return fr;
 }
 
-SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& sp, const VecX& q,
-                              const ReferenceFrames& fr, int spring_index) {
+void materialFrames(const RodNetwork& net, const VecX& q, const ReferenceFrames& fr,
+                    MaterialFrames& out) {
+  const int ne = net.numEdges();
+  out.m1.resize(ne);
+  out.m2.resize(ne);
+  for (int j = 0; j < ne; ++j) {
+    const double th = q(net.thetaIndex(j));
+    const double c = std::cos(th), s = std::sin(th);
+    out.m1[j] = c * fr.d1[j] + s * fr.d2[j];
+    out.m2[j] = -s * fr.d1[j] + c * fr.d2[j];
+  }
+}
+
+namespace {
+
+// The spring's geometry once its local material directors are known.
+SpringGeometry springGeometryWith(const RodNetwork& net, const BendTwistSpring& sp, const VecX& q,
+                                  const ReferenceFrames& fr, int spring_index, const Vec3& m1e,
+                                  const Vec3& m2e, const Vec3& m1f, const Vec3& m2f) {
   SpringGeometry g;
   const Vec3 xp = nodePosition(q, sp.node_p);
   const Vec3 xc = nodePosition(q, sp.node_c);
@@ -121,6 +147,25 @@ SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& sp, 
   g.len_f = g.f.norm();
   g.te = g.e / g.len_e;
   g.tf = g.f / g.len_f;
+  g.m1e = m1e;
+  g.m2e = m2e;
+  g.m1f = m1f;
+  g.m2f = m2f;
+  // docs/model.md 1.3: kb = 2 (t_e x t_f) / (1 + t_e.t_f), kappa1 = 1/2 (m2e+m2f).kb, kappa2 = -1/2
+  // (m1e+m1f).kb
+  g.kb = 2.0 * g.te.cross(g.tf) / (1.0 + g.te.dot(g.tf));
+  g.kappa1 = 0.5 * (g.m2e + g.m2f).dot(g.kb);
+  g.kappa2 = -0.5 * (g.m1e + g.m1f).dot(g.kb);
+  const double theta_e = sp.sign_e * q(net.thetaIndex(sp.edge_e));
+  const double theta_f = sp.sign_f * q(net.thetaIndex(sp.edge_f));
+  g.tau = theta_f - theta_e + fr.reference_twist[spring_index];  // docs/model.md 1.3 [CORR-9]
+  return g;
+}
+
+}  // namespace
+
+SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& sp, const VecX& q,
+                              const ReferenceFrames& fr, int spring_index) {
   // Local material frames (docs/model.md 1.6): m1_loc = s m1, m2_loc = m2, theta_loc = s theta.
   const double theta_e = sp.sign_e * q(net.thetaIndex(sp.edge_e));
   const double theta_f = sp.sign_f * q(net.thetaIndex(sp.edge_f));
@@ -130,17 +175,17 @@ SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& sp, 
   const Vec3 d2f = fr.d2[sp.edge_f];
   const double ce = std::cos(theta_e), se = std::sin(theta_e);
   const double cf = std::cos(theta_f), sf = std::sin(theta_f);
-  g.m1e = ce * d1e + se * d2e;
-  g.m2e = -se * d1e + ce * d2e;
-  g.m1f = cf * d1f + sf * d2f;
-  g.m2f = -sf * d1f + cf * d2f;
-  // docs/model.md 1.3: kb = 2 (t_e x t_f) / (1 + t_e.t_f), kappa1 = 1/2 (m2e+m2f).kb, kappa2 = -1/2
-  // (m1e+m1f).kb
-  g.kb = 2.0 * g.te.cross(g.tf) / (1.0 + g.te.dot(g.tf));
-  g.kappa1 = 0.5 * (g.m2e + g.m2f).dot(g.kb);
-  g.kappa2 = -0.5 * (g.m1e + g.m1f).dot(g.kb);
-  g.tau = theta_f - theta_e + fr.reference_twist[spring_index];  // docs/model.md 1.3 [CORR-9]
-  return g;
+  return springGeometryWith(net, sp, q, fr, spring_index, ce * d1e + se * d2e, -se * d1e + ce * d2e,
+                            cf * d1f + sf * d2f, -sf * d1f + cf * d2f);
+}
+
+SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& sp, const VecX& q,
+                              const ReferenceFrames& fr, const MaterialFrames& material,
+                              int spring_index) {
+  // docs/model.md 1.6: the local m1 is s m1 of the edge, the local m2 its m2 (cos even, sin odd).
+  return springGeometryWith(net, sp, q, fr, spring_index, sp.sign_e * material.m1[sp.edge_e],
+                            material.m2[sp.edge_e], sp.sign_f * material.m1[sp.edge_f],
+                            material.m2[sp.edge_f]);
 }
 
 Vec3 materialDirector1(const ReferenceFrames& fr, const VecX& q, const RodNetwork& net, int edge) {

@@ -202,7 +202,7 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
   o.max_iterations = r.integer("max_iterations", o.max_iterations, 1, 1000);
   o.damped_retry = r.flag("damped_retry", o.damped_retry);
   o.max_subdivision_depth = r.integer("max_subdivision_depth", o.max_subdivision_depth, 0, 20);
-  o.dense_jacobian_reuse = r.number("dense_jacobian_reuse", o.dense_jacobian_reuse, 0.0, 1.0);
+  o.jacobian_reuse = r.number("jacobian_reuse", o.jacobian_reuse, 0.0, 1.0);
   o.extrapolate_initial_guess = r.flag("extrapolate_initial_guess", o.extrapolate_initial_guess);
   o.trace = r.flag("trace", o.trace);
   r.rejectUnknown();

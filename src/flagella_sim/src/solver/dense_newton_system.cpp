@@ -107,7 +107,9 @@ VecX DenseNewtonSystem::solve(const VecX& rhs) const {
   const std::vector<int>& dofs = inverse_.dofs;
   VecX z(dofs.size());
   for (size_t k = 0; k < dofs.size(); ++k) z(k) = dq(dofs[k]);
-  const VecX mapped = *inverse_.matrix * z / alpha_;  // dq = C z
+  // dq = C z with C as factored (a_rows_ is A at factorize()): a true chord step when the block's
+  // matrix has been updated since
+  const VecX mapped = a_rows_ * z / alpha_;
   for (size_t k = 0; k < dofs.size(); ++k) dq(dofs[k]) = mapped(k);
   return dq;
 }

@@ -41,6 +41,10 @@ constexpr int kMaxBacktracks = 14;
 // of its value two iterations earlier while still far from the tolerance (not round-off).
 constexpr int kStagnationCheckStart = 4;
 constexpr double kStagnationRatio = 0.5;
+// Chord updates (NewtonOptions::jacobian_reuse) only in the last stretch of convergence: with the
+// scaled residual below this factor times the tolerance. Farther out (a motor reversal of the
+// binary-switch robot) a reused Jacobian was measured to stall Newton into the damped retry.
+constexpr double kChordResidualFactor = 100.0;
 
 }  // namespace
 
@@ -113,27 +117,42 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
                                  const ReferenceFrames& frames, bool with_jacobian) {
   // docs/model.md 1.10: f = (m/dt)((q - q_k)/dt - qdot_k) + dE/dq - F_ext,
   //            J = m/dt^2 + d2E/dq2 - dF_ext/dq
+  if (profile_) {
+    ++profile_->residuals;
+    profile_->jacobians += with_jacobian;
+  }
   const VecX& q0 = start.q;
   const VecX& v0 = start.qdot;
-  residual_ = net_.lumped_mass.cwiseProduct(q - q0 - dt * v0) / (dt * dt);
   SparseAssembler* hessian = with_jacobian ? &assembler_ : nullptr;
   if (with_jacobian) {
+    ProfileScope timer(profile_, &StepProfile::assembly);
     assembler_.begin();
-    for (int i = 0; i < net_.ndof(); ++i) assembler_.add(i, i, net_.lumped_mass(i) / (dt * dt));
   }
-  addStretchingGradientHessian(net_, q, residual_, hessian);
-  addBendTwistGradientHessian(net_, q, frames, residual_, hessian, motor_twist_);
-  external_.setZero(net_.ndof());
-  NegatingSink sink(assembler_);
+  {
+    ProfileScope timer(profile_, &StepProfile::elastic);
+    residual_ = net_.lumped_mass.cwiseProduct(q - q0 - dt * v0) / (dt * dt);
+    if (with_jacobian)
+      for (int i = 0; i < net_.ndof(); ++i) assembler_.add(i, i, net_.lumped_mass(i) / (dt * dt));
+    addStretchingGradientHessian(net_, q, residual_, hessian);
+    addBendTwistGradientHessian(net_, q, frames, residual_, hessian, motor_twist_);
+  }
   const EffectContext ctx{
       net_, q, frames, q0, v0, dt, start.time + dt, medium_, attempt_viscosity_};
-  for (const EffectPtr& e : effects_) e->addForce(ctx, external_, with_jacobian ? &sink : nullptr);
-  residual_ -= external_;
+  {
+    ProfileScope timer(profile_, &StepProfile::effects);
+    external_.setZero(net_.ndof());
+    NegatingSink sink(assembler_);
+    for (const EffectPtr& e : effects_)
+      e->addForce(ctx, external_, with_jacobian ? &sink : nullptr);
+    residual_ -= external_;
+  }
   if (with_jacobian) {
+    ProfileScope timer(profile_, &StepProfile::assembly);
     SparseMatrix& J = assembler_.finish();
     if (any_fixed_) pinFixedDofs(J);
     if (dense_) buildDenseJacobian(ctx);
   }
+  ProfileScope timer(profile_, &StepProfile::convergence);
   if (any_fixed_)
     for (int i = 0; i < residual_.size(); ++i)
       if (net_.fixed_dof[i]) residual_(i) = 0.0;
@@ -148,20 +167,35 @@ void ImplicitStepper::buildDenseJacobian(const EffectContext& ctx) {
 }
 
 bool ImplicitStepper::factorizeJacobian() {
+  ProfileScope timer(profile_, &StepProfile::factorization);
+  if (profile_) ++profile_->factorizations;
   ++factorizations_;
+  factored_ = false;
+  bool ok;
   if (dense_) {
-    return dense_system_.factorize(kMinDenseReciprocalCondition);
+    ok = dense_system_.factorize(kMinDenseReciprocalCondition);
+  } else {
+    if (!analyzed_ || assembler_.patternChanged()) {
+      lu_.analyze(assembler_.matrix());
+      analyzed_ = true;
+      ++analyses_;
+    }
+    ok = lu_.factorize(assembler_.matrix());
   }
-  if (!analyzed_ || assembler_.patternChanged()) {
-    lu_.analyze(assembler_.matrix());
-    analyzed_ = true;
-    ++analyses_;
-  }
-  return lu_.factorize(assembler_.matrix());
+  factored_ = ok;
+  return ok;
 }
 
 VecX ImplicitStepper::solveJacobian(const VecX& rhs) {
+  ProfileScope timer(profile_, &StepProfile::solve);
+  if (profile_) ++profile_->updates;
   return dense_ ? dense_system_.solve(rhs) : lu_.solve(rhs);
+}
+
+void ImplicitStepper::transportInto(const VecX& q, const ReferenceFrames& previous,
+                                    ReferenceFrames& frames) const {
+  ProfileScope timer(profile_, &StepProfile::frames);
+  transportFrames(net_, q, previous, frames);
 }
 
 ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, double motor_offset,
@@ -171,63 +205,102 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
   attempt_viscosity_ = viscosity;
   const VecX& q0 = state.q;
   VecX q = options_.extrapolate_initial_guess ? VecX(q0 + dt * state.qdot) : q0;
+  // Second-order predictor: the velocity extrapolated linearly from the last two steps, when this
+  // step continues the last accepted one with the same dt.
+  const bool history = options_.extrapolate_initial_guess && predictor_.valid &&
+                       predictor_.time == state.time && predictor_.dt == dt &&
+                       predictor_.qdot_end.size() == state.qdot.size() &&
+                       predictor_.qdot_end == state.qdot;
+  if (history) q += dt * (state.qdot - predictor_.qdot_start);
   for (int i = 0; i < q.size(); ++i)
     if (net_.fixed_dof[i]) q(i) = q0(i);
-  auto accept = [&](ReferenceFrames frames) {
+  // The iterate's frames live in frames_ (storage reused); an accepted step swaps them in.
+  ReferenceFrames& frames = frames_;
+  auto accept = [&]() {
     attempt.converged = true;
+    predictor_.qdot_start = state.qdot;
     state.qdot = (q - q0) / dt;
+    predictor_.qdot_end = state.qdot;
+    predictor_.time = state.time + dt;
+    predictor_.dt = dt;
+    predictor_.valid = true;
     state.q = q;
-    state.frames = std::move(frames);
+    std::swap(state.frames, frames_);
   };
+  // Modified Newton (NewtonOptions::jacobian_reuse): the first update of every attempt uses a
+  // fresh Jacobian (one from the previous step was measured to contract 5-20x worse: the stiff
+  // head has turned since), later ones reuse the factored one while the residual contracts fast.
+  factored_ = false;
+  bool last_update_chord = false;
   double residual_history[3] = {0.0, 0.0, 0.0};  // of the last three iterates
   // The first pass always builds the Jacobian; later passes first check convergence with the
-  // cheap residual-only evaluation and build the Jacobian only if another update is needed.
+  // cheap residual-only evaluation and build the Jacobian only if another update needs a fresh
+  // one.
   for (int iter = 0; iter <= options_.max_iterations; ++iter) {
-    ReferenceFrames frames = transportFrames(net_, q, state.frames);
-    attempt.residual = evaluate(state, q, dt, frames, iter == 0);
+    transportInto(q, state.frames, frames);
+    bool built = iter == 0;
+    attempt.residual = evaluate(state, q, dt, frames, built);
     attempt.iterations = iter;
     if (options_.trace)
-      std::fprintf(stderr, "t=%.4f iter %d residual %.3e\n", state.time, iter, attempt.residual);
-    if (!std::isfinite(attempt.residual)) return attempt;
-    if (attempt.residual < options_.residual_tolerance) {
-      accept(std::move(frames));
-      return attempt;
+      std::fprintf(stderr, "t=%.4f iter %d residual %.3e%s\n", state.time, iter, attempt.residual,
+                   last_update_chord ? " (chord)" : "");
+    const double previous_residual = residual_history[(iter + 2) % 3];  // of iterate iter - 1
+    if (last_update_chord && !(attempt.residual < previous_residual)) {
+      // The chord update raised the residual: undo it and rebuild the Jacobian there.
+      q = previous_iterate_;
+      transportInto(q, state.frames, frames);
+      attempt.residual = evaluate(state, q, dt, frames, true);
+      residual_history[iter % 3] = attempt.residual;
+      built = true;
+    } else {
+      if (!std::isfinite(attempt.residual)) return attempt;
+      if (attempt.residual < options_.residual_tolerance) {
+        accept();
+        return attempt;
+      }
+      if (iter == options_.max_iterations) return attempt;
+      residual_history[iter % 3] = attempt.residual;
     }
-    if (iter == options_.max_iterations) return attempt;
     // Plain Newton that has stopped converging (a two-cycle) gives up early when the damped
     // retry is there to take over.
-    residual_history[iter % 3] = attempt.residual;
     if (!damped && options_.damped_retry && iter >= kStagnationCheckStart &&
         attempt.residual > kStagnationResidualFactor * options_.residual_tolerance &&
         attempt.residual > kStagnationRatio * residual_history[(iter + 1) % 3])
       return attempt;
-    // A dense Jacobian is kept for a chord step while Newton contracts fast (NewtonOptions).
-    const double previous_residual = residual_history[(iter + 2) % 3];  // of iterate iter - 1
-    const bool reuse = iter > 0 && dense_ && !damped &&
-                       attempt.residual < options_.dense_jacobian_reuse * previous_residual;
-    if (!reuse) {
-      if (iter > 0) evaluate(state, q, dt, frames, true);
+    const bool chord = !built && !damped && factored_ &&
+                       attempt.residual < options_.jacobian_reuse * previous_residual &&
+                       attempt.residual < kChordResidualFactor * options_.residual_tolerance;
+    if (!chord) {
+      if (!built) evaluate(state, q, dt, frames, true);
       if (!factorizeJacobian()) return attempt;
     }
+    last_update_chord = chord;
     VecX dq = solveJacobian(residual_);
     if (!dq.allFinite()) return attempt;
     if (damped) {
       double length = 1.0;
       for (int k = 0;; ++k) {
         const VecX trial = q - length * dq;
-        const double r =
-            evaluate(state, trial, dt, transportFrames(net_, trial, state.frames), false);
+        transportInto(trial, state.frames, trial_frames_);
+        const double r = evaluate(state, trial, dt, trial_frames_, false);
         if (r < (1.0 - kArmijoFraction * length) * attempt.residual) break;
         if (k == kMaxBacktracks) return attempt;  // no descent along the Newton direction
         length *= 0.5;
       }
       dq *= length;
     }
+    if (last_update_chord) previous_iterate_ = q;
     q -= dq;
-    if (stepNorm(dq) < options_.step_tolerance &&
-        attempt.residual < kStagnationResidualFactor * options_.residual_tolerance) {
+    bool round_off;
+    {
+      ProfileScope timer(profile_, &StepProfile::convergence);
+      round_off = stepNorm(dq) < options_.step_tolerance &&
+                  attempt.residual < kStagnationResidualFactor * options_.residual_tolerance;
+    }
+    if (round_off) {
       // Round-off-level update with a nearly converged residual: accept (NewtonOptions).
-      accept(transportFrames(net_, q, state.frames));
+      transportInto(q, state.frames, frames);
+      accept();
       return attempt;
     }
   }
@@ -252,7 +325,10 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& mot
     throw SolverFailure(msg.str());
   }
   const StepStart start{net_, state, dt, medium_, viscosity};
-  for (const EffectPtr& e : effects_) e->beginStep(start);
+  {
+    ProfileScope timer(profile_, &StepProfile::effects);
+    for (const EffectPtr& e : effects_) e->beginStep(start);
+  }
   // docs/model.md 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
   const double offset = state.motor_twist_offset + omega * dt;
   Attempt a = solveStep(trial, dt, offset, viscosity, false);
@@ -266,7 +342,10 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& mot
   if (a.converged) {
     trial.time = t_next;
     trial.motor_twist_offset = offset;
-    for (const EffectPtr& e : effects_) e->acceptStep(net_, state, trial);
+    {
+      ProfileScope timer(profile_, &StepProfile::effects);
+      for (const EffectPtr& e : effects_) e->acceptStep(net_, state, trial);
+    }
     motor.recordApplied(command, omega);
     viscosity_factor_ = viscosity_factor;
     state = std::move(trial);
@@ -306,6 +385,8 @@ StepReport ImplicitStepper::step(RodState& state, double dt, Motor& motor) {
     viscosity_factor_ = viscosity_factor;
     motor.restore(motor_record);
   };
+  ProfileScope timer(profile_, &StepProfile::total);
+  if (profile_) ++profile_->steps;
   try {
     return stepRecursive(state, dt, motor, 0);  // assigns state only when the whole step succeeded
   } catch (const SolverFailure& e) {

@@ -16,7 +16,7 @@ using SpringMatrix = Eigen::Matrix<double, 11, 11>;
 struct SpringEnergyTerms {
   double energy = 0.0;
   SpringVector gradient = SpringVector::Zero();
-  SpringMatrix hessian = SpringMatrix::Zero();
+  SpringMatrix hessian;  ///< set only when asked for (bendTwistTerms with_hessian)
 };
 
 /// Evaluates E_b + E_t of one spring at its local geometry (docs/model.md 1.4, 1.5).

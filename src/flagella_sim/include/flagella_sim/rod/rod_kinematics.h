@@ -18,6 +18,9 @@ ReferenceFrames initialFrames(const RodNetwork& net, const VecX& q, int root_edg
 /// to the tangents of q, with the reference twist tracked incrementally (docs/model.md 1.3, 1.7).
 ReferenceFrames transportFrames(const RodNetwork& net, const VecX& q,
                                 const ReferenceFrames& previous);
+/// The same into `out` (its storage reused; `out` must not be `previous`).
+void transportFrames(const RodNetwork& net, const VecX& q, const ReferenceFrames& previous,
+                     ReferenceFrames& out);
 
 /// Local-representation quantities of one bending-twisting spring (docs/model.md 1.3, 1.6).
 struct SpringGeometry {
@@ -29,9 +32,23 @@ struct SpringGeometry {
   double kappa1, kappa2, tau;
 };
 
+/// Material directors of every edge (stored orientation): m1 = cos(theta) d1 + sin(theta) d2,
+/// m2 = -sin(theta) d1 + cos(theta) d2 (docs/model.md 1.2).
+struct MaterialFrames {
+  std::vector<Vec3> m1, m2;
+};
+/// Fills `out` (its storage reused) from q and the reference frames.
+void materialFrames(const RodNetwork& net, const VecX& q, const ReferenceFrames& frames,
+                    MaterialFrames& out);
+
 /// Evaluates one spring's local geometry from q, the reference frames and its ref. twist.
 SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& spring, const VecX& q,
                               const ReferenceFrames& frames, int spring_index);
+/// The same with the edges' material directors already computed (one cos/sin per edge instead of
+/// two per spring).
+SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& spring, const VecX& q,
+                              const ReferenceFrames& frames, const MaterialFrames& material,
+                              int spring_index);
 
 /// Material director m1^j (stored orientation) of edge j.
 Vec3 materialDirector1(const ReferenceFrames& frames, const VecX& q, const RodNetwork& net,

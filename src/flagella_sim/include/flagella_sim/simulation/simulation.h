@@ -58,6 +58,8 @@ class Simulation {
   const RodState& state() const { return state_; }
   const SimulationConfig& config() const { return config_; }
   const ImplicitStepper& stepper() const { return stepper_; }
+  /// Times the parts of every later step into `profile` (not owned; null stops it).
+  void setProfile(StepProfile* profile) { stepper_.setProfile(profile); }
   const RodNetwork& network() const { return stepper_.network(); }
   double time() const { return state_.time; }
   /// Motor command of the last step [rad/s].
@@ -78,7 +80,7 @@ class Simulation {
   Motor motor_;
   std::optional<Slider> slider_;
   Effect* slider_couple_ = nullptr;  ///< the com_offset effect the slider drives
-  double neutral_offset_ = 0.0;  ///< l_0 [m]: the configured effects.com_offset.offset
+  double neutral_offset_ = 0.0;      ///< l_0 [m]: the configured effects.com_offset.offset
   RodState state_;
   std::vector<TrajectorySample> trajectory_;
   bool record_nodes_ = false;

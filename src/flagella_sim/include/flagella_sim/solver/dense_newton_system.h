@@ -22,14 +22,15 @@ class DenseNewtonSystem : public DenseJacobianSink {
   void begin(const SparseMatrix& sparse, const std::vector<bool>& fixed);
   /// J -= scale * block at rows and columns `dofs` (dF/dq += scale * block).
   void addDense(const std::vector<int>& dofs, const MatX& block, double scale) override;
-  /// J -= scale * diag(row_weights) * matrix^{-1}; `matrix` must stay unchanged until the next
-  /// begin() (solve() uses it).
+  /// J -= scale * diag(row_weights) * matrix^{-1}; `matrix` must stay unchanged until
+  /// factorize() (solve() uses the copy made there, so a factored system serves later updates).
   void addScaledInverse(const std::vector<int>& dofs, const MatX& matrix, const DenseLuSolver& lu,
                         const VecX& row_weights, double scale) override;
   /// Completes J (pins the Dirichlet DOFs) and factors it in place with partial-pivot LU, once
   /// per begin(); false if it is singular (reciprocal condition estimate below `min_rcond`).
   bool factorize(double min_rcond);
-  /// The Newton update dq with J dq = rhs (from the last factorize()).
+  /// The Newton update dq with J dq = rhs (J as at the last factorize(); valid until the next
+  /// begin()).
   VecX solve(const VecX& rhs) const;
   /// True when the last factorize() used the preconditioned form (no inverse formed).
   bool preconditioned() const { return preconditioned_; }
@@ -60,7 +61,8 @@ class DenseNewtonSystem : public DenseJacobianSink {
   bool completed_ = false;
   double alpha_ = 1.0;  ///< mean |diagonal| of the preconditioning matrix
   DenseLuSolver lu_;
-  RowMajorMatX a_rows_, columns_;  ///< work space of precondition(), kept to avoid reallocation
+  RowMajorMatX a_rows_;   ///< A as preconditioned at the last factorize() (solve() uses it)
+  RowMajorMatX columns_;  ///< work space of precondition(), kept to avoid reallocation
 };
 
 }  // namespace flagella

@@ -23,6 +23,7 @@
 #include "flagella_sim/solver/dense_newton_system.h"
 #include "flagella_sim/solver/newton_options.h"
 #include "flagella_sim/solver/sparse_lu_solver.h"
+#include "flagella_sim/solver/step_profile.h"
 
 namespace flagella {
 
@@ -79,6 +80,8 @@ class ImplicitStepper {
   /// True when the Newton system is solved densely (an effect has a dense Jacobian block).
   bool denseLinearSolve() const { return dense_; }
   const SparseLuSolver& linearSolver() const { return lu_; }
+  /// Times the parts of every later step into `profile` (not owned; null stops profiling).
+  void setProfile(StepProfile* profile) { profile_ = profile; }
 
  private:
   struct Attempt {
@@ -102,6 +105,7 @@ class ImplicitStepper {
   /// Factors the Jacobian built by evaluate(); false if it is singular.
   bool factorizeJacobian();
   VecX solveJacobian(const VecX& rhs);
+  void transportInto(const VecX& q, const ReferenceFrames& previous, ReferenceFrames& frames) const;
 
   RodNetwork net_;
   std::vector<EffectPtr> effects_;
@@ -122,6 +126,16 @@ class ImplicitStepper {
   DenseNewtonSystem dense_system_;
   int factorizations_ = 0;
   int analyses_ = 0;
+  bool factored_ = false;  ///< a factored Jacobian of this attempt can serve a chord update
+  VecX previous_iterate_;  ///< to undo a chord update that raised the residual
+  ReferenceFrames frames_, trial_frames_;  ///< of the iterate and of a line-search trial
+  /// The last accepted (sub)step's start and end rates, for the second-order predictor.
+  struct PredictorHistory {
+    bool valid = false;
+    double time = 0.0, dt = 0.0;  ///< end time and length of that step
+    VecX qdot_start, qdot_end;
+  } predictor_;
+  StepProfile* profile_ = nullptr;
 };
 
 }  // namespace flagella

@@ -23,12 +23,15 @@ struct NewtonOptions {
   double force_scale = 1.0;   ///< [N], e.g. EI/L^2 of a flexible tail
   double moment_scale = 1.0;  ///< [N m], e.g. EI/L
   double length_scale = 1.0;  ///< [m], e.g. tail length
-  /// Dense Newton systems only (RSS hydrodynamics, docs/model.md 4.4): the factorised Jacobian
-  /// is reused for the next update (a chord step) when the last update reduced the scaled
-  /// residual by at least this factor; otherwise, and always in the damped retry, it is rebuilt
-  /// and refactored. 0 refactors every iteration. The convergence test is the same either way.
-  double dense_jacobian_reuse = 0.1;
-  /// Initial guess q(t_k) + dt qdot(t_k) (public group code) instead of q(t_k).
+  /// Modified Newton (docs/model.md 1.10): the factored Jacobian serves the next update (a chord
+  /// step) when the last update reduced the scaled residual by at least this factor; otherwise,
+  /// and always in the damped retry, it is rebuilt and refactored at the current iterate (a chord
+  /// update that raised the residual is undone first). 0: a fresh Jacobian for every update. The
+  /// convergence test is the same either way, so only the iteration path changes.
+  double jacobian_reuse = 0.1;
+  /// Initial guess q(t_k) + dt qdot(t_k) (public group code) instead of q(t_k); when the step
+  /// continues the last accepted one with the same dt, the rate is extrapolated linearly from the
+  /// last two steps, q(t_k) + dt (2 qdot(t_k) - qdot(t_{k-1})) (docs/model.md 1.10).
   bool extrapolate_initial_guess = true;
   /// Print every Newton iterate's scaled residual to stderr.
   bool trace = false;
