@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "flagella_sim/core/strict_yaml.h"
+
 namespace flagella::control {
 namespace {
 
@@ -119,12 +121,7 @@ PathSpec pathSpecFromYaml(const YAML::Node& node) {
 }
 
 PathSpec loadPathSpec(const std::string& file) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(file + ": " + e.what());
-  }
+  const YAML::Node root = loadStrictYamlFile(file, "path");
   try {
     if (!root["path"]) fail("missing top-level 'path' entry");
     return pathSpecFromYaml(root["path"]);

@@ -11,6 +11,7 @@
 
 #include "flagella_control/lcm_harness.h"
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/core/strict_yaml.h"
 #include "flagella_sim/simulation/simulation.h"
 
 namespace flagella::control {
@@ -71,7 +72,7 @@ std::vector<std::string> modelErrorOverrides(
     const std::vector<std::pair<std::string, double>>& errors) {
   std::vector<std::string> out = overrides;
   if (errors.empty()) return out;
-  const YAML::Node root = YAML::LoadFile(config_path);
+  const YAML::Node root = loadStrictYamlFile(config_path, "config");
   for (const auto& [key, factor] : errors) {
     const auto alias = aliases().find(key);
     const std::string field = alias != aliases().end() ? alias->second : key;

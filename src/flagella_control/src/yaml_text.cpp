@@ -7,6 +7,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "flagella_sim/core/strict_yaml.h"
+
 namespace flagella::control {
 
 std::string numberText(double x) {
@@ -60,14 +62,7 @@ void writeTextFile(const std::string& path, const std::string& text) {
 
 YAML::Node loadSingleKeyFile(const std::string& path, const std::string& key,
                              const std::string& what) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw std::runtime_error(path + ": cannot open " + what + " file");
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(path + ": YAML syntax error: " + e.what());
-  }
+  const YAML::Node root = loadStrictYamlFile(path, what);
   if (!root.IsMap()) throw std::runtime_error(path + ": expected a map with key '" + key + "'");
   for (const auto& entry : root) {
     const std::string name = entry.first.as<std::string>();

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "data_io_internal.h"
+#include "flagella_sim/core/strict_yaml.h"
 #include "text_format.h"
 
 namespace flagella {
@@ -152,16 +153,10 @@ Metadata loadMetadata(const std::string& path) {
                         (fs::exists(path, ec) ? "not a regular file" : "no such file") + ")");
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::ParserException& e) {
-    throw DataError(path, e.mark.line + 1, e.mark.column + 1, "YAML syntax error: " + e.msg);
-  } catch (const YAML::Exception& e) {
-    throw DataError(path, 0, 0, std::string("cannot read the metadata file: ") + e.what());
+    root = loadStrictYamlFile(path, "metadata");
+  } catch (const YamlInputError& e) {
+    throw DataError(path, e.line(), e.column(), e.message());
   }
-  if (!root.IsDefined() || root.IsNull())
-    throw DataError(path, 0, 0,
-                    "the metadata file is empty; expected a map with 'kind: steady_state' or "
-                    "'kind: time_series'");
   Metadata meta(path, root);
   if (!root.IsMap()) meta.fail(root, "expected a map of metadata fields (kind, csv, noise, ...)");
   return meta;

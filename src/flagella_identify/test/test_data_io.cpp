@@ -405,6 +405,16 @@ TEST(DataIoErrors, YamlSyntaxError) {
   EXPECT_TRUE(startsWith(readError(yaml), yaml + ":3:4: YAML syntax error"));
 }
 
+TEST(DataIoErrors, DuplicateMetadataKeyIsNotIgnored) {
+  // yaml-cpp answers a lookup with the first of two equal keys: the second (here a NaN noise)
+  // would be dropped without a word.
+  TempDir dir;
+  dir.write("t.csv", "omega_T_rpm,v_mm_s\n60,1\n");
+  const std::string yaml = dir.write(
+      "t.yaml", "kind: steady_state\ncsv: t.csv\nnoise: {v_mm_s: 0.1}\nnoise: {v_mm_s: .nan}\n");
+  EXPECT_TRUE(startsWith(readError(yaml), yaml + ":4:1: duplicate key 'noise'")) << readError(yaml);
+}
+
 TEST(DataIoErrors, UnknownMetadataKey) {
   TempDir dir;
   dir.write("t.csv", "omega_T_rpm,v_mm_s\n60,1\n");

@@ -7,6 +7,7 @@
 #include <regex>
 
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/core/strict_yaml.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
 namespace flagella::sweep {
@@ -33,15 +34,9 @@ void checkField(const std::string& file, const std::string& field) {
 
 YAML::Node loadSingleDocument(const std::string& path) {
   if (!fs::is_regular_file(path)) throw ConfigError(path + ": no such sweep file");
-  std::vector<YAML::Node> docs;
-  try {
-    docs = YAML::LoadAllFromFile(path);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
-  if (docs.size() != 1 || !docs[0].IsMap())
-    throw ConfigError(path + ": must hold one YAML document, a map with the key 'sweep'");
-  return docs[0];
+  const YAML::Node root = loadStrictYamlFile(path, "sweep");
+  if (!root.IsMap()) throw ConfigError(path + ": must hold a map with the key 'sweep'");
+  return root;
 }
 
 }  // namespace

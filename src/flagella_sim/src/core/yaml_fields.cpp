@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "flagella_sim/core/strict_yaml.h"
 #include "flagella_sim/core/text_lists.h"
 
 namespace flagella {
@@ -156,9 +157,9 @@ void applyOverride(YAML::Node& root, const std::string& assignment) {
     throw ConfigError("override '" + assignment + "' has an empty value");
   YAML::Node parsed;
   try {
-    parsed = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError("override '" + assignment + "': cannot parse the value");
+    parsed = loadStrictYamlText(text, "override '" + path + "'");
+  } catch (const YamlInputError& e) {
+    throw ConfigError("override '" + path + "': cannot parse the value: " + e.message());
   }
   // Rebuild without source marks: they would point into the override text, not the file.
   YAML::Node value;

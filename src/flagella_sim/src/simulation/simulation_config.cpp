@@ -4,6 +4,7 @@
 #include <fstream>
 #include <limits>
 
+#include "flagella_sim/core/strict_yaml.h"
 #include "flagella_sim/core/text_lists.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/core/yaml_fields.h"
@@ -244,15 +245,7 @@ SimulationConfig parseSimulationConfig(const YAML::Node& root, const std::string
 }
 
 YAML::Node loadConfigTree(const std::string& path, const std::vector<std::string>& overrides) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw ConfigError(path + ": cannot open config file");
-  } catch (const YAML::ParserException& e) {
-    throw ConfigError(path + ": line " + std::to_string(e.mark.line + 1) + ", column " +
-                      std::to_string(e.mark.column + 1) + ": " + e.msg);
-  }
+  YAML::Node root = loadStrictYamlFile(path, "config");
   try {
     for (const std::string& o : overrides) applyOverride(root, o);
   } catch (const ConfigError& e) {

@@ -1,0 +1,152 @@
+// Strict YAML input (strict_yaml.h): one document, no duplicate keys, no application tags, for
+// every file the tools read and for values on command lines; errors name the source and line.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "flagella_sim/core/strict_yaml.h"
+#include "flagella_sim/simulation/simulation_config.h"
+#include "support/temp_dir.h"
+
+namespace flagella {
+namespace {
+
+using testing::TempDir;
+
+const std::string kDesign1 = std::string(FLAGELLA_CONFIG_DIR) + "/granular_design1.yaml";
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+// The error of parsing `text`, with its line (0 if it parsed).
+struct Outcome {
+  std::string message;
+  int line = 0;
+  bool failed = false;
+};
+Outcome parse(const std::string& text) {
+  Outcome out;
+  try {
+    loadStrictYamlText(text, "input");
+  } catch (const YamlInputError& e) {
+    out = {e.what(), e.line(), true};
+  }
+  return out;
+}
+
+std::string fileText(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string configError(const std::string& path, const std::vector<std::string>& overrides = {}) {
+  try {
+    loadSimulationConfig(path, overrides);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(StrictYaml, DuplicateKeyNamesBothLines) {
+  const Outcome o = parse("a: 1\nb: 2\na: 3\n");
+  ASSERT_TRUE(o.failed);
+  EXPECT_EQ(o.line, 3);
+  EXPECT_TRUE(contains(o.message, "duplicate key 'a'")) << o.message;
+  EXPECT_TRUE(contains(o.message, "first given on line 1")) << o.message;
+  EXPECT_TRUE(contains(o.message, "input: line 3")) << o.message;
+}
+
+TEST(StrictYaml, NestedDuplicateNamesTheDottedField) {
+  const Outcome o = parse("motor:\n  omega_rpm: 10\n  ramp_time: 1\n  omega_rpm: .nan\n");
+  ASSERT_TRUE(o.failed);
+  EXPECT_EQ(o.line, 4);
+  EXPECT_TRUE(contains(o.message, "duplicate key 'motor.omega_rpm'")) << o.message;
+  // Inside a list of maps too.
+  const Outcome in_list = parse("points:\n  - {x: 1, x: 2}\n");
+  ASSERT_TRUE(in_list.failed);
+  EXPECT_TRUE(contains(in_list.message, "duplicate key 'points[0].x'")) << in_list.message;
+}
+
+TEST(StrictYaml, EmptyDocumentsAreRejected) {
+  for (const std::string text :
+       {"", "   \n\t\n", "# only a comment\n  # and another\n", "---\n", "~\n"}) {
+    const Outcome o = parse(text);
+    ASSERT_TRUE(o.failed) << "'" << text << "'";
+    EXPECT_TRUE(contains(o.message, "empty")) << o.message;
+  }
+}
+
+TEST(StrictYaml, SecondDocumentIsRejectedWithItsLine) {
+  const Outcome o = parse("a: 1\n---\na: 2\n");
+  ASSERT_TRUE(o.failed);
+  EXPECT_TRUE(contains(o.message, "2 YAML documents")) << o.message;
+  EXPECT_GE(o.line, 2);
+}
+
+TEST(StrictYaml, ApplicationTagsAreRejectedCoreTagsAccepted) {
+  const Outcome tag = parse("a: 1\nb: !foo 3\n");
+  ASSERT_TRUE(tag.failed);
+  EXPECT_EQ(tag.line, 2);
+  EXPECT_TRUE(contains(tag.message, "'!foo'")) << tag.message;
+  EXPECT_TRUE(contains(tag.message, "'b'")) << tag.message;
+  EXPECT_TRUE(parse("s: [1, !bar 2]\n").failed);
+  EXPECT_TRUE(parse("!map {a: 1}\n").failed);
+  // Plain, quoted and core-schema values are plain YAML.
+  EXPECT_FALSE(parse("a: !!str 3\nb: \"x\"\nc: 'y'\nd: null\ne: [1, 2]\nf: {g: 1}\n").failed);
+}
+
+TEST(StrictYaml, SyntaxErrorsGiveLineAndColumn) {
+  const Outcome o = parse("a: [1, 2\nb: 3\n");
+  ASSERT_TRUE(o.failed);
+  EXPECT_GT(o.line, 0);
+  EXPECT_TRUE(contains(o.message, "YAML syntax error")) << o.message;
+}
+
+TEST(StrictYaml, ShippedConfigsAreStrict) {
+  for (const char* name :
+       {"granular_design1", "granular_design2", "interface_robot", "interface_path_planning",
+        "helical_robot", "helical_gimbal", "helical_steering"}) {
+    const std::string path = std::string(FLAGELLA_CONFIG_DIR) + "/" + name + ".yaml";
+    EXPECT_NO_THROW(loadStrictYamlFile(path, "config")) << path;
+  }
+}
+
+TEST(StrictYaml, ConfigWithADuplicatedSectionIsAnError) {
+  // The reproducer of the issue: a NaN in a second 'motor' section was silently ignored.
+  const TempDir dir;
+  const std::string path =
+      dir.write("dup.yaml", fileText(kDesign1) + "motor:\n  omega_rpm: .nan\n");
+  const std::string msg = configError(path);
+  EXPECT_TRUE(contains(msg, path)) << msg;
+  EXPECT_TRUE(contains(msg, "duplicate key 'motor'")) << msg;
+}
+
+TEST(StrictYaml, EmptyOrCommentOnlyConfigIsAnError) {
+  const TempDir dir;
+  for (const std::string text : {"", "\n   \n", "# robot: nothing\n"}) {
+    const std::string path = dir.write("empty.yaml", text);
+    const std::string msg = configError(path);
+    EXPECT_TRUE(contains(msg, "config file is empty")) << "'" << text << "': " << msg;
+  }
+}
+
+TEST(StrictYaml, OverrideValueWithATagIsAnError) {
+  const std::string msg = configError(kDesign1, {"motor.omega_rpm=!foo 30"});
+  EXPECT_TRUE(contains(msg, "motor.omega_rpm")) << msg;
+  EXPECT_TRUE(contains(msg, "'!foo'")) << msg;
+}
+
+TEST(StrictYaml, MissingFileAndDirectoryAreNamed) {
+  const TempDir dir;
+  EXPECT_TRUE(contains(configError(dir.path().string() + "/none.yaml"), "no such file"));
+  EXPECT_TRUE(contains(configError(dir.path().string()), "not a regular file"));
+}
+
+}  // namespace
+}  // namespace flagella
