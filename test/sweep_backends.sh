@@ -76,7 +76,7 @@ sweep:
   config: $root/config/helical_robot.yaml
   points:
     - {motor.omega_rpm: 8, simulation.duration: 0.3}
-    - {motor.omega_rpm: 8, simulation.duration: 0.3, solver.residual_tolerance: 1e-14}
+    - {motor.omega_rpm: 8, simulation.duration: 0.3, solver.residual_tolerance: 1e-10, solver.max_iterations: 1}
     - {motor.omega_rpm: 12, simulation.duration: 0.3}
 YAML
 set +e

@@ -245,6 +245,7 @@ TEST(OutOfRange, OverridesAreRejectedNamingFieldAndRange) {
       {"medium.viscosity=-1", "medium.viscosity", "got -1"},
       {"solver.max_iterations=0", "solver.max_iterations", "got 0"},
       {"solver.residual_tolerance=0", "solver.residual_tolerance", "got 0"},
+      {"solver.residual_tolerance=1e-14", "solver.residual_tolerance", "[1e-10, 1]"},
   };
   const std::string path = shippedConfig(kDesign1);
   for (const RangeCase& rc : cases) {
@@ -253,6 +254,17 @@ TEST(OutOfRange, OverridesAreRejectedNamingFieldAndRange) {
     EXPECT_TRUE(namesFieldAndRange(msg, rc.field)) << msg;
     EXPECT_TRUE(contains(msg, rc.expected_fragment)) << msg;
     EXPECT_TRUE(contains(msg, path)) << "message does not name the file: " << msg;
+  }
+}
+
+TEST(OutOfRange, SmallestResidualToleranceIsMetByTheShippedRobots) {
+  // The declared range is one the solver can meet: at its lower end every step converges
+  // (round-off stalls Newton only near 1e-12).
+  for (const char* name : {kDesign1, kInterfaceRobot}) {
+    SCOPED_TRACE(name);
+    Simulation sim(loadSimulationConfig(shippedConfig(name), {"solver.residual_tolerance=1e-10"}));
+    EXPECT_NO_THROW(sim.run(0.3));
+    EXPECT_EQ(sim.sample().subdivided_steps, 0);
   }
 }
 

@@ -48,9 +48,9 @@ constexpr double kCommand = 5.0;
 constexpr double kOtherCommand = -3.0;
 constexpr double kTimeout = 0.2;  // [s]
 
-// Overrides that make every Newton solve impossible: one iteration cannot reach 1e-14.
+// Overrides that make every Newton solve impossible: one update cannot reach 1e-10.
 const std::vector<std::string> kImpossibleSolver{
-    "solver.max_iterations=1", "solver.residual_tolerance=1e-14", "solver.max_subdivision_depth=2"};
+    "solver.max_iterations=1", "solver.residual_tolerance=1e-10", "solver.max_subdivision_depth=2"};
 // A marginal solver: 2 iterations and no subdivision follow the motor's 2 s soft start to steady
 // 100 rpm, but neither an abrupt reversal nor an abrupt stop from there converges.
 const std::vector<std::string> kMarginalSolver{
