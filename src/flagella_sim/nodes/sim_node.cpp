@@ -126,13 +126,35 @@ void SimNode::onMotorCommand(const flagella_msgs::MotorCommand& msg) {
   if (!command_seen_ || msg.header.stamp > latest_command_stamp_)
     latest_command_stamp_ = msg.header.stamp;
   command_seen_ = true;
-  if (session_->commandMotor(msg.omega) != flagella::CommandVerdict::Accepted)
-    ROS_ERROR_STREAM("flagella_sim: rejected " << session_->health().last_rejection);
+  if (session_->commandMotor(msg.omega) != flagella::CommandVerdict::Accepted) logRejection();
 }
 
 void SimNode::onSliderCommand(const flagella_msgs::SliderCommand& msg) {
-  if (session_->commandSlider(msg.position) != flagella::CommandVerdict::Accepted)
-    ROS_ERROR_STREAM("flagella_sim: rejected " << session_->health().last_rejection);
+  if (session_->commandSlider(msg.position) != flagella::CommandVerdict::Accepted) logRejection();
+}
+
+void SimNode::logRejection() {
+  long held_back = 0;
+  if (!rejection_log_.allow(ros::WallTime::now().toSec(), held_back)) return;
+  const flagella::SessionHealth h = session_->health();
+  ROS_ERROR_STREAM("flagella_sim: rejected " << h.last_rejection << " (" << h.motor_rejected
+                                             << " motor and " << h.slider_rejected
+                                             << " slider commands rejected so far; " << held_back
+                                             << " not logged since the last line)");
+}
+
+void SimNode::logFailsafeChange() {
+  const bool active = session_->failsafeActive();
+  if (active == failsafe_logged_) return;
+  failsafe_logged_ = active;
+  if (active)
+    ROS_WARN(
+        "flagella_sim: failsafe engaged at t = %.3f s: no valid motor command for %.3f s of "
+        "simulated time; motor stopped",
+        clockTime(), session_->options().command_timeout);
+  else
+    ROS_INFO("flagella_sim: failsafe released at t = %.3f s: a valid motor command arrived",
+             clockTime());
 }
 
 void SimNode::onClock(const rosgraph_msgs::Clock& msg) { followed_clock_ = msg.clock.toSec(); }
@@ -140,6 +162,7 @@ void SimNode::onClock(const rosgraph_msgs::Clock& msg) { followed_clock_ = msg.c
 bool SimNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
   time_offset_ += session_->time();
   session_->reset();
+  failsafe_logged_ = false;
   path_.poses.clear();
   for (auto* s :
        {&state_schedule_, &imu_schedule_, &marker_schedule_, &path_schedule_, &camera_schedule_})
@@ -355,6 +378,7 @@ int SimNode::run() {
       continue;
     }
     const bool stepped = session_->step();
+    logFailsafeChange();
     if (!stepped && !was_halted_) {
       was_halted_ = true;
       ROS_ERROR_STREAM("flagella_sim: " << session_->health().message);

@@ -14,11 +14,14 @@
 #include <memory>
 #include <string>
 
+#include "flagella_sim/runtime/log_throttle.h"
 #include "flagella_sim/runtime/rate_schedule.h"
 #include "flagella_sim/runtime/sim_session.h"
 #include "ros_visuals.h"
 
 namespace flagella::sim_node {
+
+constexpr double kRejectionLogPeriod = 2.0;  ///< [s wall] between lines about rejected commands
 
 struct SimNodeOptions {
   std::string config_path;
@@ -91,6 +94,12 @@ class SimNode {
   bool command_seen_ = false;
   ros::Time latest_command_stamp_;
   long lockstep_timeouts_ = 0;
+  // Logging: rejected commands at most once per kRejectionLogPeriod of wall time, failsafe
+  // engage and release once each.
+  flagella::LogThrottle rejection_log_{kRejectionLogPeriod};
+  bool failsafe_logged_ = false;
+  void logRejection();
+  void logFailsafeChange();
 };
 
 }  // namespace flagella::sim_node

@@ -135,6 +135,8 @@ CameraFix SimSession::measureCamera() {
   return camera_.measure(time(), output_from_sim_ * sim_->sample().head_position);
 }
 
+bool SimSession::failsafeActive() const { return sim_->motor().gate()->failsafeTripped(time()); }
+
 SessionHealth SimSession::health() const {
   SessionHealth h;
   const TrajectorySample s = sim_->sample();

@@ -2,9 +2,10 @@
 """rostest node: the simulator node's contract, checked from outside over ROS.
 
 - The IMU orientation equals the head frame reported in the rod state (same stamp).
-- NaN, infinite and out-of-range motor commands are rejected and the last valid one is kept.
+- NaN, infinite and out-of-range motor commands are rejected and the last valid one is kept; a
+  flood of them is logged as a few throttled lines, not one per command.
 - The failsafe stops the motor when commands stop for longer than the timeout, and a new
-  command restarts it.
+  command restarts it; both changes are logged once.
 - Pause freezes simulated time; resume continues it.
 - Reset puts the robot back in its initial shape while the clock keeps running forward.
 Expects the node in namespace /flagella with initial_motor:=stopped, command_timeout:=0.5,
@@ -19,6 +20,7 @@ import rospy
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from flagella_msgs.msg import MotorCommand, RodState
+from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import Imu
 from std_srvs.srv import SetBool, Trigger
 
@@ -40,7 +42,9 @@ class Listener:
         self.first_state = None
         self.received = 0
         self.diagnostics = None
+        self.logs = []  # (level, text) of the simulator node's log lines
         rospy.Subscriber(NS + "/rod_state", RodState, self.on_state, queue_size=1000)
+        rospy.Subscriber("/rosout", Log, self.on_log, queue_size=1000)
         rospy.Subscriber(NS + "/imu", Imu, self.on_imu, queue_size=1000)
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=100)
 
@@ -58,6 +62,15 @@ class Listener:
             if len(self.imu) > 2000:
                 for key in sorted(self.imu)[:1000]:
                     del self.imu[key]
+
+    def on_log(self, msg):
+        if msg.msg.startswith("flagella_sim:"):
+            with self.lock:
+                self.logs.append((msg.level, msg.msg))
+
+    def log_lines(self, level, text):
+        with self.lock:
+            return [m for lv, m in self.logs if lv == level and text in m]
 
     def on_diagnostics(self, msg):
         for status in msg.status:
@@ -173,6 +186,19 @@ class SimNodeChecks(unittest.TestCase):
             "diagnostics do not count the %d rejected commands" % len(bad))
         for state in list(self.listener.states)[-20:]:
             self.assertTrue(math.isfinite(state.omega_motor))
+        # A flood of 300 bad commands within about a second: a few throttled error lines (one
+        # per 2 s of wall time), not 300.
+        time.sleep(2.5)  # past the throttle period of the lines above
+        before = len(self.listener.log_lines(Log.ERROR, "rejected"))
+        for _ in range(300):
+            self.commander.send(float("nan"))
+            time.sleep(0.003)
+        self.assertTrue(wait_until(
+            lambda: int(self.listener.diagnostic_value("motor_rejected")) >= rejected_before + len(bad) + 300))
+        time.sleep(1.0)
+        flood = len(self.listener.log_lines(Log.ERROR, "rejected")) - before
+        self.assertGreaterEqual(flood, 1, "the flood was not logged at all")
+        self.assertLessEqual(flood, 2, "the flood gave %d error lines" % flood)
 
     def test_3_failsafe_stops_the_motor_and_a_new_command_restarts_it(self):
         self.commander.value = COMMAND
@@ -186,8 +212,12 @@ class SimNodeChecks(unittest.TestCase):
         self.assertGreaterEqual(tripped_at - stopped_at, TIMEOUT - 0.1)
         self.assertTrue(wait_until(lambda: self.listener.diagnostic_value("failsafe_active") == "true"))
         self.assertEqual(self.listener.diagnostics.level, DiagnosticStatus.WARN)
+        self.assertTrue(wait_until(lambda: self.listener.log_lines(Log.WARN, "failsafe engaged")),
+                        "the failsafe's engagement was not logged")
         self.commander.enabled = True
         self.assertTrue(self.wait_motor(COMMAND), "a new command did not restart the motor")
+        self.assertTrue(wait_until(lambda: self.listener.log_lines(Log.INFO, "failsafe released")),
+                        "the failsafe's release was not logged")
 
     def test_4_pause_freezes_time_and_resume_continues(self):
         pause = rospy.ServiceProxy(NS + "/sim/pause", SetBool)

@@ -76,6 +76,8 @@ class SimSession {
   double time() const { return sim_->time(); }
   double dt() const { return config_.dt; }
   bool halted() const { return halted_; }
+  /// The motor command failsafe holds the motor stopped now (cheap; health() has the rest).
+  bool failsafeActive() const;
   RodSnapshot snapshot() const;
   /// One IMU measurement of the current head motion (advances the noise generator).
   ImuSample measureImu();
