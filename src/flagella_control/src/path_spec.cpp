@@ -56,8 +56,8 @@ void rejectUnknownKeys(const YAML::Node& node, const std::set<std::string>& allo
 
 PathSpec pathSpecFromYaml(const YAML::Node& node) {
   if (!node || !node.IsMap()) fail("the 'path' entry must be a map with a 'shape'");
-  rejectUnknownKeys(node, {"shape", "frame", "width", "height", "side", "radius", "turn",
-                           "points", "closed", "laps"});
+  rejectUnknownKeys(node, {"shape", "frame", "width", "height", "side", "radius", "turn", "points",
+                           "closed", "laps"});
   if (!node["shape"]) fail("'shape' is required: polyline, circle, rectangle or triangle");
   const std::string shape = node["shape"].as<std::string>();
   PathSpec spec;
@@ -121,7 +121,12 @@ PathSpec pathSpecFromYaml(const YAML::Node& node) {
 }
 
 PathSpec loadPathSpec(const std::string& file) {
-  const YAML::Node root = loadStrictYamlFile(file, "path");
+  YAML::Node root;
+  try {
+    root = loadStrictYamlFile(file, "path");
+  } catch (const YamlInputError& e) {
+    throw std::runtime_error(e.what());  // this package's load errors are runtime errors
+  }
   try {
     if (!root["path"]) fail("missing top-level 'path' entry");
     return pathSpecFromYaml(root["path"]);

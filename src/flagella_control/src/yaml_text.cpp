@@ -62,7 +62,12 @@ void writeTextFile(const std::string& path, const std::string& text) {
 
 YAML::Node loadSingleKeyFile(const std::string& path, const std::string& key,
                              const std::string& what) {
-  const YAML::Node root = loadStrictYamlFile(path, what);
+  YAML::Node root;
+  try {
+    root = loadStrictYamlFile(path, what);
+  } catch (const YamlInputError& e) {
+    throw std::runtime_error(e.what());  // this package's load errors are runtime errors
+  }
   if (!root.IsMap()) throw std::runtime_error(path + ": expected a map with key '" + key + "'");
   for (const auto& entry : root) {
     const std::string name = entry.first.as<std::string>();

@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/core/yaml_fields.h"
+#include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/effects/interface_lateral_force.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
@@ -499,6 +499,24 @@ TEST(Overrides, MalformedAssignmentsAreRejected) {
   }
   const std::string msg = loadError(path, {"robot.n_tails"});
   EXPECT_TRUE(contains(msg, "section.field=value")) << msg;
+}
+
+TEST(Overrides, NullMeansTheDefault) {
+  // docs: a field set to null takes its default, for every kind of field.
+  const std::string path = shippedConfig(kDesign1);
+  const SimulationConfig plain = loadSimulationConfig(path, {"robot.tail_edge_length=null"});
+  EXPECT_EQ(plain.geometry.tail_edges, loadSimulationConfig(path).geometry.tail_edges);
+  EXPECT_EQ(loadSimulationConfig(path, {"motor.omega_rpm=~"}).motor.omega, 0.0);
+  EXPECT_EQ(loadSimulationConfig(path, {"motor.mode=null"}).motor.mode, "constant");
+}
+
+TEST(Overrides, ModeSpecificFieldsNameTheModeTheyNeed) {
+  // Back to the default mode, the binary schedule's durations no longer apply: the error says
+  // so instead of calling them unknown.
+  const std::string path = shippedConfig("interface_path_planning.yaml");
+  const std::string msg = loadError(path, {"motor.mode=null"});
+  EXPECT_TRUE(contains(msg, "motor.positive_duration applies only to motor.mode: binary")) << msg;
+  EXPECT_TRUE(contains(msg, "the default")) << msg;
 }
 
 TEST(Overrides, UnknownFieldViaOverrideIsRejected) {

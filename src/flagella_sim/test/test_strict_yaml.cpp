@@ -74,12 +74,22 @@ TEST(StrictYaml, NestedDuplicateNamesTheDottedField) {
 }
 
 TEST(StrictYaml, EmptyDocumentsAreRejected) {
+  const TempDir dir;
   for (const std::string text :
        {"", "   \n\t\n", "# only a comment\n  # and another\n", "---\n", "~\n"}) {
-    const Outcome o = parse(text);
-    ASSERT_TRUE(o.failed) << "'" << text << "'";
-    EXPECT_TRUE(contains(o.message, "empty")) << o.message;
+    const std::string path = dir.write("empty.yaml", text);
+    try {
+      loadStrictYamlFile(path, "config");
+      ADD_FAILURE() << "accepted '" << text << "'";
+    } catch (const YamlInputError& e) {
+      EXPECT_TRUE(contains(e.what(), "config file is empty")) << e.what();
+    }
   }
+  // A value may be null (a --set value meaning "the default"), but not nothing.
+  EXPECT_FALSE(parse("null").failed);
+  EXPECT_TRUE(loadStrictYamlText("~", "value").IsNull());
+  EXPECT_TRUE(parse("").failed);
+  EXPECT_TRUE(parse("# nothing").failed);
 }
 
 TEST(StrictYaml, SecondDocumentIsRejectedWithItsLine) {

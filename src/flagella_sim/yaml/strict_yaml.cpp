@@ -56,8 +56,10 @@ void checkNode(const YAML::Node& node, const std::string& source, const std::str
   }
 }
 
+// `null_allowed`: a document that is just null (~, null) is a value (a --set value meaning "the
+// default"), not an empty file.
 YAML::Node parseOneDocument(const std::string& text, const std::string& source,
-                            const std::string& what) {
+                            const std::string& what, bool null_allowed) {
   std::vector<YAML::Node> docs;
   try {
     docs = YAML::LoadAll(text);
@@ -66,7 +68,7 @@ YAML::Node parseOneDocument(const std::string& text, const std::string& source,
   } catch (const YAML::Exception& e) {
     throw YamlInputError(source, 0, 0, std::string("cannot read the YAML: ") + e.what());
   }
-  if (docs.empty() || (docs.size() == 1 && docs[0].IsNull()))
+  if (docs.empty() || (docs.size() == 1 && docs[0].IsNull() && !null_allowed))
     throw YamlInputError(source, 0, 0,
                          "the " + what + " is empty (no YAML document: only blanks or comments)");
   if (docs.size() > 1)
@@ -100,11 +102,11 @@ YAML::Node loadStrictYamlFile(const std::string& path, const std::string& what) 
   std::ostringstream text;
   text << file.rdbuf();
   if (file.bad()) throw YamlInputError(path, 0, 0, "cannot read " + what + " file");
-  return parseOneDocument(text.str(), path, what + " file");
+  return parseOneDocument(text.str(), path, what + " file", false);
 }
 
 YAML::Node loadStrictYamlText(const std::string& text, const std::string& source) {
-  return parseOneDocument(text, source, "value");
+  return parseOneDocument(text, source, "value", true);
 }
 
 void checkStrictYaml(const YAML::Node& root, const std::string& source) {

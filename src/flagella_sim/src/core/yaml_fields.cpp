@@ -24,6 +24,7 @@ FieldReader::FieldReader(const YAML::Node& node, std::string path)
 }
 
 bool FieldReader::has(const std::string& key) const {
+  used_.insert(key);  // asked about: a known field (given as null it means "not given")
   return node_ && node_.IsMap() && node_[key] && !node_[key].IsNull();
 }
 

@@ -156,6 +156,12 @@ void parseMotor(FieldReader r, SimulationConfig& c) {
   if (m.mode == "binary") {
     m.positive_duration = r.number("positive_duration", 1.0, 1e-6, 1e6, "s");
     m.negative_duration = r.number("negative_duration", m.positive_duration, 1e-6, 1e6, "s");
+  } else {
+    for (const char* key : {"positive_duration", "negative_duration"})
+      if (r.has(key))
+        throw ConfigError(r.field(key) + " applies only to " + r.field("mode") + ": binary (" +
+                          r.field("mode") + " is " + m.mode +
+                          (r.has("mode") ? "" : ", the default, as it is not given or null") + ")");
   }
   r.rejectUnknown();
 }

@@ -32,7 +32,7 @@ class YamlInputError : public ConfigError {
 
 /// Reads and parses `path`; `what` names the kind of file in messages ("config", "sweep").
 YAML::Node loadStrictYamlFile(const std::string& path, const std::string& what);
-/// Parses `text`; messages name `source` (e.g. "--set motor.omega_rpm=...").
+/// Parses `text` as one value (null allowed: ~ or null); messages name `source`.
 YAML::Node loadStrictYamlText(const std::string& text, const std::string& source);
 /// The checks on an already parsed tree: duplicate keys and application tags, at any depth.
 void checkStrictYaml(const YAML::Node& root, const std::string& source);

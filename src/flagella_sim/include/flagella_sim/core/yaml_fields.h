@@ -42,7 +42,7 @@ class FieldReader {
   YAML::Node get(const std::string& key);
   YAML::Node node_;
   std::string path_;
-  std::set<std::string> used_;
+  mutable std::set<std::string> used_;  ///< fields asked for (has() included)
 };
 
 /// Sets the value at a dotted path ("robot.n_tails") in a YAML tree from a string, creating
