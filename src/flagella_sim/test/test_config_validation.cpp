@@ -519,6 +519,29 @@ TEST(Overrides, ModeSpecificFieldsNameTheModeTheyNeed) {
   EXPECT_TRUE(contains(msg, "the default")) << msg;
 }
 
+TEST(Overrides, ErrorsBlameTheOverrideNotTheFile) {
+  const std::string path = shippedConfig(kDesign1);
+  const std::string msg = loadError(path, {"motor.omega_rpm=1e5"});
+  EXPECT_EQ(msg.rfind("override 'motor.omega_rpm=1e5' (on " + path + "): motor.omega_rpm", 0), 0u)
+      << msg;
+  // The last override of a field is the one to blame; other fields still blame the file.
+  const std::string last = loadError(path, {"motor.omega_rpm=1e5", "motor.omega_rpm=2e5"});
+  EXPECT_TRUE(contains(last, "override 'motor.omega_rpm=2e5'")) << last;
+  const TempDir dir;
+  const std::string bad = dir.write("bad.yaml", "motor:\n  omega_rpm: 1e5\n");
+  const std::string in_file = loadError(bad, {"motor.ramp_time=1"});
+  EXPECT_EQ(in_file.rfind(bad + ": motor.omega_rpm", 0), 0u) << in_file;
+  EXPECT_TRUE(contains(in_file, "line 2")) << in_file;
+}
+
+TEST(Overrides, HugeValuesAreQuotedAbbreviated) {
+  const std::string huge(100000, 'x');
+  const std::string msg = loadError(shippedConfig(kDesign1), {"motor.mode=" + huge});
+  EXPECT_LT(msg.size(), 600u) << msg.substr(0, 600);
+  EXPECT_TRUE(contains(msg, "(100000 characters)")) << msg.substr(0, 600);
+  EXPECT_TRUE(contains(msg, "motor.mode must be one of: constant, binary")) << msg.substr(0, 600);
+}
+
 TEST(Overrides, UnknownFieldViaOverrideIsRejected) {
   const std::string msg = loadError(shippedConfig(kDesign1), {"robot.n_tail=3"});
   EXPECT_TRUE(contains(msg, "'robot.n_tail'")) << msg;

@@ -56,7 +56,7 @@ int FieldReader::integer(const std::string& key, int fallback, int min, int max)
   try {
     value = v.as<int>();
   } catch (const YAML::Exception&) {
-    const std::string got = v.IsScalar() ? ", got " + v.as<std::string>() : "";
+    const std::string got = v.IsScalar() ? ", got " + abbreviated(v.Scalar()) : "";
     throw ConfigError(field(key) + " must be an integer in [" + std::to_string(min) + ", " +
                       std::to_string(max) + "]" + got + where(v));
   }
@@ -84,8 +84,8 @@ std::string FieldReader::choice(const std::string& key, const std::string& fallb
   const std::string value = v.as<std::string>();
   for (const std::string& a : allowed)
     if (a == value) return value;
-  throw ConfigError(field(key) + " must be one of: " + joined(allowed) + "; got '" + value + "'" +
-                    where(v));
+  throw ConfigError(field(key) + " must be one of: " + joined(allowed) + "; got '" +
+                    abbreviated(value) + "'" + where(v));
 }
 
 Vec3 FieldReader::vector3(const std::string& key, const Vec3& fallback) {
@@ -151,11 +151,12 @@ void FieldReader::rejectUnknown() const {
 void applyOverride(YAML::Node& root, const std::string& assignment) {
   const size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw ConfigError("override '" + assignment + "' must look like section.field=value");
+    throw ConfigError("override '" + abbreviated(assignment) +
+                      "' must look like section.field=value");
   const std::string path = assignment.substr(0, eq);
   const std::string text = assignment.substr(eq + 1);
   if (text.find_first_not_of(" \t") == std::string::npos)
-    throw ConfigError("override '" + assignment + "' has an empty value");
+    throw ConfigError("override '" + abbreviated(assignment) + "' has an empty value");
   YAML::Node parsed;
   try {
     parsed = loadStrictYamlText(text, "override '" + path + "'");
@@ -180,7 +181,8 @@ void applyOverride(YAML::Node& root, const std::string& assignment) {
   for (size_t i = 0; i + 1 < parts.size(); ++i) {
     YAML::Node next = chain.back()[parts[i]];
     if (next && !next.IsNull() && !next.IsMap())
-      throw ConfigError("override '" + assignment + "': " + parts[i] + " is not a section");
+      throw ConfigError("override '" + abbreviated(assignment) + "': " + parts[i] +
+                        " is not a section");
     chain.push_back(next);
   }
   chain.back()[parts.back()] = value;

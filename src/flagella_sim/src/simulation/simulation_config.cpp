@@ -264,13 +264,31 @@ YAML::Node loadConfigTree(const std::string& path, const std::vector<std::string
   return root;
 }
 
+namespace {
+
+// The source to blame for an error about a field: the last override that set it (a --set
+// value, a launch argument), else the file. Field errors start with the field's dotted name.
+std::string sourceOf(const std::string& message, const std::string& path,
+                     const std::vector<std::string>& overrides) {
+  for (auto o = overrides.rbegin(); o != overrides.rend(); ++o) {
+    const std::string field = o->substr(0, o->find('='));
+    if (!field.empty() && message.rfind(field, 0) == 0 &&
+        (message.size() == field.size() || message[field.size()] == ' ' ||
+         message[field.size()] == '['))
+      return "override '" + abbreviated(*o) + "' (on " + path + ")";
+  }
+  return path;
+}
+
+}  // namespace
+
 SimulationConfig loadSimulationConfig(const std::string& path,
                                       const std::vector<std::string>& overrides) {
   const YAML::Node root = loadConfigTree(path, overrides);
   try {
     return parseSimulationConfig(root, path);
   } catch (const ConfigError& e) {
-    throw ConfigError(path + ": " + e.what());
+    throw ConfigError(sourceOf(e.what(), path, overrides) + ": " + e.what());
   } catch (const YAML::Exception& e) {
     throw ConfigError(path + ": " + e.what());
   }

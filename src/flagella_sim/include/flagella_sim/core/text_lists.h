@@ -1,5 +1,5 @@
-// Small text helpers shared by error messages, listings and reports: joined name lists and
-// numbers printed as a stream prints them.
+// Small text helpers shared by error messages, listings and reports: joined name lists,
+// numbers printed as a stream prints them, long user text abbreviated.
 #pragma once
 
 #include <sstream>
@@ -21,6 +21,13 @@ inline std::string formatNumber(double x) {
   std::ostringstream out;
   out << x;
   return out.str();
+}
+
+/// `text` as an error message quotes it: at most `max` characters, a longer text cut with its
+/// length given ("abc... (102400 characters)").
+inline std::string abbreviated(const std::string& text, size_t max = 60) {
+  if (text.size() <= max) return text;
+  return text.substr(0, max) + "... (" + std::to_string(text.size()) + " characters)";
 }
 
 }  // namespace flagella
