@@ -28,20 +28,8 @@ double angleBetween(const Vec3& u, const Vec3& v) {
   return std::atan2(u.cross(v).norm(), u.dot(v));
 }
 
-double signedAngle(const Vec3& u, const Vec3& v, const Vec3& n) {
-  const Vec3 w = u.cross(v);
-  const double angle = std::atan2(w.norm(), u.dot(v));
-  return n.dot(w) < 0.0 ? -angle : angle;
-}
-
 double angleAbout(const Vec3& u, const Vec3& v, const Vec3& n) {
   return std::atan2(n.dot(u.cross(v)), u.dot(v));
-}
-
-Vec3 rotateAboutAxis(const Vec3& v, const Vec3& k, double angle) {
-  const double c = std::cos(angle);
-  const double s = std::sin(angle);
-  return c * v + s * k.cross(v) + (1.0 - c) * k.dot(v) * k;
 }
 
 Vec3 anyPerpendicular(const Vec3& t) {

@@ -17,10 +17,21 @@ Vec3 edgeVector(const RodNetwork& net, const VecX& q, int edge) {
   return nodePosition(q, e.end_node) - nodePosition(q, e.start_node);
 }
 
-std::vector<Vec3> unitTangents(const RodNetwork& net, const VecX& q) {
-  std::vector<Vec3> t(net.numEdges());
+void unitTangents(const RodNetwork& net, const VecX& q, std::vector<Vec3>& t) {
+  t.resize(net.numEdges());
   for (int j = 0; j < net.numEdges(); ++j) t[j] = edgeVector(net, q, j).normalized();
-  return t;
+}
+
+// Material directors of one edge (stored orientation, docs/model.md 1.2):
+// m1 = cos(theta) d1 + sin(theta) d2, m2 = -sin(theta) d1 + cos(theta) d2.
+struct EdgeDirectors {
+  Vec3 m1, m2;
+};
+EdgeDirectors edgeDirectors(const RodNetwork& net, const VecX& q, const ReferenceFrames& fr,
+                            int edge) {
+  const double th = q(net.thetaIndex(edge));
+  const double c = std::cos(th), s = std::sin(th);
+  return {c * fr.d1[edge] + s * fr.d2[edge], -s * fr.d1[edge] + c * fr.d2[edge]};
 }
 
 // Reference twist of spring s measured directly (no history): signed angle from the
@@ -38,7 +49,7 @@ double directReferenceTwist(const BendTwistSpring& s, const ReferenceFrames& fr)
 ReferenceFrames initialFrames(const RodNetwork& net, const VecX& q, int root_edge) {
   const int ne = net.numEdges();
   ReferenceFrames fr;
-  fr.tangent = unitTangents(net, q);
+  unitTangents(net, q, fr.tangent);
   fr.d1.assign(ne, Vec3::Zero());
   fr.d2.assign(ne, Vec3::Zero());
 
@@ -93,10 +104,9 @@ ReferenceFrames transportFrames(const RodNetwork& net, const VecX& q,
 void transportFrames(const RodNetwork& net, const VecX& q, const ReferenceFrames& previous,
                      ReferenceFrames& fr) {
   const int ne = net.numEdges();
-  fr.tangent.resize(ne);
+  unitTangents(net, q, fr.tangent);
   fr.d1.resize(ne);
   fr.d2.resize(ne);
-  for (int j = 0; j < ne; ++j) fr.tangent[j] = edgeVector(net, q, j).normalized();
   for (int j = 0; j < ne; ++j) {
     // docs/model.md 1.7: d1(iterate) = P_{t(t_k) -> t(iterate)} d1(t_k), d2 = t x d1
     const Vec3 d1 = parallelTransport(previous.d1[j], previous.tangent[j], fr.tangent[j]);
@@ -124,10 +134,9 @@ void materialFrames(const RodNetwork& net, const VecX& q, const ReferenceFrames&
   out.m1.resize(ne);
   out.m2.resize(ne);
   for (int j = 0; j < ne; ++j) {
-    const double th = q(net.thetaIndex(j));
-    const double c = std::cos(th), s = std::sin(th);
-    out.m1[j] = c * fr.d1[j] + s * fr.d2[j];
-    out.m2[j] = -s * fr.d1[j] + c * fr.d2[j];
+    const EdgeDirectors m = edgeDirectors(net, q, fr, j);
+    out.m1[j] = m.m1;
+    out.m2[j] = m.m2;
   }
 }
 
@@ -167,16 +176,10 @@ SpringGeometry springGeometryWith(const RodNetwork& net, const BendTwistSpring& 
 SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& sp, const VecX& q,
                               const ReferenceFrames& fr, int spring_index) {
   // Local material frames (docs/model.md 1.6): m1_loc = s m1, m2_loc = m2, theta_loc = s theta.
-  const double theta_e = sp.sign_e * q(net.thetaIndex(sp.edge_e));
-  const double theta_f = sp.sign_f * q(net.thetaIndex(sp.edge_f));
-  const Vec3 d1e = sp.sign_e * fr.d1[sp.edge_e];
-  const Vec3 d2e = fr.d2[sp.edge_e];
-  const Vec3 d1f = sp.sign_f * fr.d1[sp.edge_f];
-  const Vec3 d2f = fr.d2[sp.edge_f];
-  const double ce = std::cos(theta_e), se = std::sin(theta_e);
-  const double cf = std::cos(theta_f), sf = std::sin(theta_f);
-  return springGeometryWith(net, sp, q, fr, spring_index, ce * d1e + se * d2e, -se * d1e + ce * d2e,
-                            cf * d1f + sf * d2f, -sf * d1f + cf * d2f);
+  const EdgeDirectors e = edgeDirectors(net, q, fr, sp.edge_e);
+  const EdgeDirectors f = edgeDirectors(net, q, fr, sp.edge_f);
+  return springGeometryWith(net, sp, q, fr, spring_index, sp.sign_e * e.m1, e.m2, sp.sign_f * f.m1,
+                            f.m2);
 }
 
 SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& sp, const VecX& q,
@@ -189,8 +192,7 @@ SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& sp, 
 }
 
 Vec3 materialDirector1(const ReferenceFrames& fr, const VecX& q, const RodNetwork& net, int edge) {
-  const double th = q(net.thetaIndex(edge));
-  return std::cos(th) * fr.d1[edge] + std::sin(th) * fr.d2[edge];
+  return edgeDirectors(net, q, fr, edge).m1;
 }
 
 }  // namespace flagella

@@ -170,20 +170,13 @@ bool ImplicitStepper::factorizeJacobian() {
   ProfileScope timer(profile_, &StepProfile::factorization);
   if (profile_) ++profile_->factorizations;
   ++factorizations_;
-  factored_ = false;
-  bool ok;
-  if (dense_) {
-    ok = dense_system_.factorize(kMinDenseReciprocalCondition);
-  } else {
-    if (!analyzed_ || assembler_.patternChanged()) {
-      lu_.analyze(assembler_.matrix());
-      analyzed_ = true;
-      ++analyses_;
-    }
-    ok = lu_.factorize(assembler_.matrix());
+  if (dense_) return dense_system_.factorize(kMinDenseReciprocalCondition);
+  if (!analyzed_ || assembler_.patternChanged()) {
+    lu_.analyze(assembler_.matrix());
+    analyzed_ = true;
+    ++analyses_;
   }
-  factored_ = ok;
-  return ok;
+  return lu_.factorize(assembler_.matrix());
 }
 
 VecX ImplicitStepper::solveJacobian(const VecX& rhs) {
@@ -230,7 +223,6 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
   // Modified Newton (NewtonOptions::jacobian_reuse): the first update of every attempt uses a
   // fresh Jacobian (one from the previous step was measured to contract 5-20x worse: the stiff
   // head has turned since), later ones reuse the factored one while the residual contracts fast.
-  factored_ = false;
   bool last_update_chord = false;
   double residual_history[3] = {0.0, 0.0, 0.0};  // of the last three iterates
   // The first pass always builds the Jacobian; later passes first check convergence with the
@@ -250,7 +242,6 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
       q = previous_iterate_;
       transportInto(q, state.frames, frames);
       attempt.residual = evaluate(state, q, dt, frames, true);
-      residual_history[iter % 3] = attempt.residual;
       built = true;
     } else {
       if (!std::isfinite(attempt.residual)) return attempt;
@@ -259,15 +250,16 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
         return attempt;
       }
       if (iter == options_.max_iterations) return attempt;
-      residual_history[iter % 3] = attempt.residual;
     }
+    residual_history[iter % 3] = attempt.residual;
     // Plain Newton that has stopped converging (a two-cycle) gives up early when the damped
     // retry is there to take over.
     if (!damped && options_.damped_retry && iter >= kStagnationCheckStart &&
         attempt.residual > kStagnationResidualFactor * options_.residual_tolerance &&
         attempt.residual > kStagnationRatio * residual_history[(iter + 1) % 3])
       return attempt;
-    const bool chord = !built && !damped && factored_ &&
+    // (Past the first pass a factored Jacobian always exists: a failed factorization returns.)
+    const bool chord = !built && !damped &&
                        attempt.residual < options_.jacobian_reuse * previous_residual &&
                        attempt.residual < kChordResidualFactor * options_.residual_tolerance;
     if (!chord) {

@@ -16,15 +16,9 @@ Vec3 parallelTransport(const Vec3& u, const Vec3& a, const Vec3& b);
 /// (unlike acos).
 double angleBetween(const Vec3& u, const Vec3& v);
 
-/// Signed angle from u to v about axis n: atan2(|u x v|, u.v) * sign(n.(u x v))
-/// (docs/model.md 1.3).
-double signedAngle(const Vec3& u, const Vec3& v, const Vec3& n);
 /// Signed angle from u to v about the unit axis n when both lie in the plane normal to n:
-/// atan2(n.(u x v), u.v), in (-pi, pi] (no square root, no branch).
+/// atan2(n.(u x v), u.v), in (-pi, pi] (docs/model.md 1.3).
 double angleAbout(const Vec3& u, const Vec3& v, const Vec3& n);
-
-/// Rotates v about the unit axis k by angle (Rodrigues' formula).
-Vec3 rotateAboutAxis(const Vec3& v, const Vec3& k, double angle);
 
 /// Any unit vector perpendicular to the unit vector t.
 Vec3 anyPerpendicular(const Vec3& t);

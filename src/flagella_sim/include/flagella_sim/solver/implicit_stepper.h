@@ -126,7 +126,6 @@ class ImplicitStepper {
   DenseNewtonSystem dense_system_;
   int factorizations_ = 0;
   int analyses_ = 0;
-  bool factored_ = false;  ///< a factored Jacobian of this attempt can serve a chord update
   VecX previous_iterate_;  ///< to undo a chord update that raised the residual
   ReferenceFrames frames_, trial_frames_;  ///< of the iterate and of a line-search trial
   /// The last accepted (sub)step's start and end rates, for the second-order predictor.
