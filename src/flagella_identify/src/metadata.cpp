@@ -146,11 +146,6 @@ void Metadata::requireNoise(const std::map<std::string, double>& noise, const st
 }
 
 Metadata loadMetadata(const std::string& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw DataError(path, 0, 0,
-                    std::string("cannot open the metadata file (") +
-                        (fs::exists(path, ec) ? "not a regular file" : "no such file") + ")");
   YAML::Node root;
   try {
     root = loadStrictYamlFile(path, "metadata");

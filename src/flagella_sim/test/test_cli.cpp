@@ -68,13 +68,6 @@ CommandResult runTool(const std::string& args) {
   return result;
 }
 
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;
   std::stringstream ss(text);
@@ -139,7 +132,7 @@ TEST_F(FlagellaRun, ShortRunWritesTimeseriesAndSummary) {
   ASSERT_TRUE(fs::exists(csv));
   ASSERT_TRUE(fs::exists(json));
 
-  const std::vector<std::string> rows = lines(readFile(csv));
+  const std::vector<std::string> rows = lines(testing::readTextFile(csv));
   ASSERT_FALSE(rows.empty());
   EXPECT_EQ(rows.front(), trajectoryCsvHeader());
   const size_t columns = splitCsv(trajectoryCsvHeader()).size();
@@ -151,7 +144,7 @@ TEST_F(FlagellaRun, ShortRunWritesTimeseriesAndSummary) {
   }
   EXPECT_NEAR(std::stod(splitCsv(rows.back())[0]), kShortDuration, 1e-6);
 
-  const std::string summary = readFile(json);
+  const std::string summary = testing::readTextFile(json);
   EXPECT_FALSE(hasNonFinite(summary)) << summary;
   EXPECT_EQ(jsonNumber(summary, "n_tails"), 2.0);
   EXPECT_NEAR(jsonNumber(summary, "omega_T_rpm"), 100.0, 1e-9);
@@ -295,8 +288,8 @@ TEST_F(FlagellaRun, SweepWritesOneRowPerCase) {
   ASSERT_EQ(r.exit_code, kExitOk) << r.output;
   const fs::path csv = out.path() / "sweep.csv";
   ASSERT_TRUE(fs::exists(csv)) << r.output;
-  const std::vector<std::string> rows = lines(readFile(csv));
-  ASSERT_EQ(static_cast<int>(rows.size()), kSweepRows + 1) << readFile(csv);
+  const std::vector<std::string> rows = lines(testing::readTextFile(csv));
+  ASSERT_EQ(static_cast<int>(rows.size()), kSweepRows + 1) << testing::readTextFile(csv);
   const std::vector<std::string> header = splitCsv(rows.front());
   ASSERT_GE(header.size(), 3u);
   EXPECT_EQ(header[0], "n_tails");
@@ -347,14 +340,14 @@ TEST_F(FlagellaRun, SolverFailureExitsThreeAndKeepsPartialOutputs) {
   const fs::path csv = out.path() / "timeseries.csv";
   ASSERT_TRUE(fs::exists(csv));
   ASSERT_TRUE(fs::exists(out.path() / "summary.json"));
-  const std::vector<std::string> rows = lines(readFile(csv));
+  const std::vector<std::string> rows = lines(testing::readTextFile(csv));
   ASSERT_GE(rows.size(), 3u) << "expected the samples before the failure";
   EXPECT_EQ(rows.front(), trajectoryCsvHeader());
   for (size_t i = 1; i < rows.size(); ++i) EXPECT_FALSE(hasNonFinite(rows[i])) << rows[i];
   const double last_time = std::stod(splitCsv(rows.back())[0]);
   EXPECT_GT(last_time, 0.0);
   EXPECT_LT(last_time, kDuration);
-  EXPECT_FALSE(hasNonFinite(readFile(out.path() / "summary.json")));
+  EXPECT_FALSE(hasNonFinite(testing::readTextFile(out.path() / "summary.json")));
 }
 
 // ---------------------------------------------------------------------------------------------

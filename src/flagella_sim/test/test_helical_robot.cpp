@@ -628,10 +628,7 @@ TEST(HelicalRun, SummaryJsonHasTheHelicalFields) {
                               out.path().string() + " > /dev/null 2>&1";
   const int status = std::system(command.c_str());
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << command;
-  std::ifstream in(out.path() / "summary.json");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string json = text.str();
+  const std::string json = testing::readTextFile(out.path() / "summary.json");
   for (const char* key :
        {"\"robot\": \"helical\"", "\"pitch_count\": 3.5", "\"heading_change_deg\":",
         "\"flagellum_tilt_max_deg\":", "\"buckled\": false", "\"buckling_tilt_deg\": 15"})

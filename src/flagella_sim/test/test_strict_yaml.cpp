@@ -2,9 +2,8 @@
 // every file the tools read and for values on command lines; errors name the source and line.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
 #include <string>
+#include <vector>
 
 #include "flagella_sim/core/strict_yaml.h"
 #include "flagella_sim/simulation/simulation_config.h"
@@ -37,20 +36,8 @@ Outcome parse(const std::string& text) {
   return out;
 }
 
-std::string fileText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 std::string configError(const std::string& path, const std::vector<std::string>& overrides = {}) {
-  try {
-    loadSimulationConfig(path, overrides);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
+  return testing::errorMessageOf<ConfigError>([&] { loadSimulationConfig(path, overrides); });
 }
 
 TEST(StrictYaml, DuplicateKeyNamesBothLines) {
@@ -131,7 +118,7 @@ TEST(StrictYaml, ConfigWithADuplicatedSectionIsAnError) {
   // The reproducer of the issue: a NaN in a second 'motor' section was silently ignored.
   const TempDir dir;
   const std::string path =
-      dir.write("dup.yaml", fileText(kDesign1) + "motor:\n  omega_rpm: .nan\n");
+      dir.write("dup.yaml", testing::readTextFile(kDesign1) + "motor:\n  omega_rpm: .nan\n");
   const std::string msg = configError(path);
   EXPECT_TRUE(contains(msg, path)) << msg;
   EXPECT_TRUE(contains(msg, "duplicate key 'motor'")) << msg;

@@ -26,11 +26,15 @@ bool standardTag(const std::string& tag) {
   return tag.empty() || tag == "?" || tag == "!" || tag.rfind("tag:yaml.org,2002:", 0) == 0;
 }
 
+// How a message names the node at `path`.
+std::string named(const std::string& path) {
+  return path.empty() ? "the document" : "'" + path + "'";
+}
+
 void checkNode(const YAML::Node& node, const std::string& source, const std::string& path) {
-  const std::string here = path.empty() ? "the document" : "'" + path + "'";
   if (!standardTag(node.Tag()))
     throw YamlInputError(source, lineOf(node), columnOf(node),
-                         "application tag '" + node.Tag() + "' on " + here +
+                         "application tag '" + node.Tag() + "' on " + named(path) +
                              " is not supported (only plain YAML values)");
   if (node.IsSequence()) {
     int index = 0;
@@ -41,7 +45,7 @@ void checkNode(const YAML::Node& node, const std::string& source, const std::str
     for (const auto& kv : node) {
       if (!kv.first.IsScalar())
         throw YamlInputError(source, lineOf(kv.first), columnOf(kv.first),
-                             "a key in " + here + " is not a plain name");
+                             "a key in " + named(path) + " is not a plain name");
       const std::string key = kv.first.Scalar();
       const std::string field = path.empty() ? key : path + "." + key;
       const auto seen = first_line.find(key);
@@ -95,13 +99,13 @@ YAML::Node loadStrictYamlFile(const std::string& path, const std::string& what) 
   if (!std::filesystem::is_regular_file(path, ec))
     throw YamlInputError(
         path, 0, 0,
-        "cannot open " + what + " file (" +
+        "cannot open the " + what + " file (" +
             (std::filesystem::exists(path, ec) ? "not a regular file" : "no such file") + ")");
   std::ifstream file(path, std::ios::binary);
-  if (!file) throw YamlInputError(path, 0, 0, "cannot open " + what + " file");
+  if (!file) throw YamlInputError(path, 0, 0, "cannot open the " + what + " file");
   std::ostringstream text;
   text << file.rdbuf();
-  if (file.bad()) throw YamlInputError(path, 0, 0, "cannot read " + what + " file");
+  if (file.bad()) throw YamlInputError(path, 0, 0, "cannot read the " + what + " file");
   return parseOneDocument(text.str(), path, what + " file", false);
 }
 

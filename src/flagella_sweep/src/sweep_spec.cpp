@@ -33,7 +33,6 @@ void checkField(const std::string& file, const std::string& field) {
 }
 
 YAML::Node loadSingleDocument(const std::string& path) {
-  if (!fs::is_regular_file(path)) throw ConfigError(path + ": no such sweep file");
   const YAML::Node root = loadStrictYamlFile(path, "sweep");
   if (!root.IsMap()) throw ConfigError(path + ": must hold a map with the key 'sweep'");
   return root;

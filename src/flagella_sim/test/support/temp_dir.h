@@ -9,6 +9,7 @@
 #include <fstream>
 #include <functional>
 #include <random>
+#include <sstream>
 #include <string>
 
 namespace flagella::testing {
@@ -41,6 +42,14 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+/// The whole content of a text file ("" when it cannot be read).
+inline std::string readTextFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
 
 /// Runs `fn`, expects an exception of type E and returns its message ("" and a test failure
 /// otherwise).
