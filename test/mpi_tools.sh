@@ -7,11 +7,7 @@
 # Usage: mpi_tools.sh DEVEL_BIN
 set -euo pipefail
 bin=$1
-root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-fail() { echo "FAIL: $*" >&2; exit 1; }
+source "$(dirname "${BASH_SOURCE[0]}")/scratch_dir.sh"
 mpi() { timeout 300 mpirun --allow-run-as-root --oversubscribe -np "$@"; }
 
 sweep=(sweep "$root/config/helical_robot.yaml" --omega-rpm 5,10,15,20 --duration 0.5 --jobs 1 --plot-script '' --quiet)

@@ -8,11 +8,7 @@
 # Usage: sweep_backends.sh DEVEL_BIN
 set -euo pipefail
 bin=$1
-root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-fail() { echo "FAIL: $*" >&2; exit 1; }
+source "$(dirname "${BASH_SOURCE[0]}")/scratch_dir.sh"
 
 cat > sweep.yaml <<YAML
 sweep:
