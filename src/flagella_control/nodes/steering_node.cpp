@@ -45,14 +45,9 @@ SteeringNode::SteeringNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   SteeringGains gains;
   const std::string schedule = param<std::string>(pnh, "schedule", "relax");
   gains.schedule = scheduleFromName(schedule);
-  gains.turn_threshold = param(pnh, "turn_threshold", gains.turn_threshold);
-  gains.settle_time = param(pnh, "settle_time", gains.settle_time);
-  gains.tilt_time_constant = param(pnh, "tilt_time_constant", gains.tilt_time_constant);
-  gains.tilt_integral_time = param(pnh, "tilt_integral_time", gains.tilt_integral_time);
-  gains.fix_gain = param(pnh, "fix_gain", gains.fix_gain);
-  gains.imu_timeout = param(pnh, "imu_timeout", gains.imu_timeout);
-  gains.fix_timeout = param(pnh, "fix_timeout", gains.fix_timeout);
-  gains.sensor_fault_timeout = param(pnh, "sensor_fault_timeout", gains.sensor_fault_timeout);
+  // Every gain of SteeringGains by its name (steer_by_offset: 0 or 1).
+  for (const std::string& name : SteeringGains::names())
+    gains.set(name, param(pnh, name, gains.get(name)));
   controller_ = std::make_unique<MassTransformerController>(
       loadWaypointMission(waypoints_file), loadSteeringCalibration(calibration_file), gains);
   status_period_ = statusPeriod(pnh);

@@ -34,6 +34,7 @@ void SteeringGains::validate() const {
   requireInRange(kContext, "max_turn_time", max_turn_time, 1.0, 3600.0);
   requireInRange(kContext, "descent_holdoff", descent_holdoff, 0.0, 600.0);
   requireInRange(kContext, "tilt_mode_threshold", tilt_mode_threshold, 0.0, M_PI);
+  requireInRange(kContext, "max_buckle_error", max_buckle_error, turn_threshold, 2 * M_PI);
   requireInRange(kContext, "phase_window", phase_window, 0.01, M_PI);
   requireInRange(kContext, "min_turn_share", min_turn_share, 0.0, 1.0);
   requireInRange(kContext, "settle_time", settle_time, 0.0, 600.0);
@@ -41,8 +42,16 @@ void SteeringGains::validate() const {
   requireInRange(kContext, "tilt_time_constant", tilt_time_constant, 0.1, 600.0);
   requireInRange(kContext, "max_pitch_rate", max_pitch_rate, 1e-3, 10.0);
   requireInRange(kContext, "tilt_integral_time", tilt_integral_time, 0.1, 1e4);
+  requireInRange(kContext, "tilt_integral_delay", tilt_integral_delay, 0.0, 1e4);
+  requireInRange(kContext, "tilt_exit_threshold", tilt_exit_threshold, 0.0, tilt_mode_threshold);
+  requireInRange(kContext, "min_pitch_offset", min_pitch_offset, 0.0, 0.01);
+  requireInRange(kContext, "crab_lag_time", crab_lag_time, 0.0, 600.0);
+  requireInRange(kContext, "max_steer_offset", max_steer_offset, 0.0, 0.01);
+  requireInRange(kContext, "neutral_filter_time", neutral_filter_time, 1.0, 1e5);
   requireInRange(kContext, "slider_margin", slider_margin, 0.0, 0.01);
   requireInRange(kContext, "fix_gain", fix_gain, 0.0, 1.0);
+  requireInRange(kContext, "reach_fraction", reach_fraction, 0.0, 1.0);
+  requireInRange(kContext, "pass_margin", pass_margin, 0.0, 1.0);
   requireInRange(kContext, "course_filter_time", course_filter_time, 0.0, 600.0);
   requireInRange(kContext, "crab_filter_time", crab_filter_time, 0.0, 3600.0);
   requireInRange(kContext, "max_crab", max_crab, 0.0, M_PI);
@@ -50,6 +59,89 @@ void SteeringGains::validate() const {
   requireInRange(kContext, "imu_timeout", imu_timeout, 1e-3, 60.0);
   requireInRange(kContext, "fix_timeout", fix_timeout, 1e-3, 1e4);
   requireInRange(kContext, "sensor_fault_timeout", sensor_fault_timeout, imu_timeout, 1e4);
+}
+
+namespace {
+// The numeric gains by name (SteeringGains::set, get, names).
+struct NamedGain {
+  const char* name;
+  double SteeringGains::*field;
+};
+constexpr NamedGain kNamedGains[] = {
+    {"heading_filter_time", &SteeringGains::heading_filter_time},
+    {"tilt_filter_time", &SteeringGains::tilt_filter_time},
+    {"turn_threshold", &SteeringGains::turn_threshold},
+    {"large_turn", &SteeringGains::large_turn},
+    {"blocked_turn", &SteeringGains::blocked_turn},
+    {"flip_elevation", &SteeringGains::flip_elevation},
+    {"top_margin", &SteeringGains::top_margin},
+    {"lean_filter_time", &SteeringGains::lean_filter_time},
+    {"exit_window", &SteeringGains::exit_window},
+    {"exit_delay", &SteeringGains::exit_delay},
+    {"sweep_filter_time", &SteeringGains::sweep_filter_time},
+    {"max_turn_time", &SteeringGains::max_turn_time},
+    {"descent_holdoff", &SteeringGains::descent_holdoff},
+    {"tilt_mode_threshold", &SteeringGains::tilt_mode_threshold},
+    {"max_buckle_error", &SteeringGains::max_buckle_error},
+    {"phase_window", &SteeringGains::phase_window},
+    {"min_turn_share", &SteeringGains::min_turn_share},
+    {"settle_time", &SteeringGains::settle_time},
+    {"max_elevation", &SteeringGains::max_elevation},
+    {"tilt_time_constant", &SteeringGains::tilt_time_constant},
+    {"max_pitch_rate", &SteeringGains::max_pitch_rate},
+    {"tilt_integral_time", &SteeringGains::tilt_integral_time},
+    {"tilt_exit_threshold", &SteeringGains::tilt_exit_threshold},
+    {"tilt_integral_delay", &SteeringGains::tilt_integral_delay},
+    {"min_pitch_offset", &SteeringGains::min_pitch_offset},
+    {"crab_lag_time", &SteeringGains::crab_lag_time},
+    {"max_steer_offset", &SteeringGains::max_steer_offset},
+    {"neutral_filter_time", &SteeringGains::neutral_filter_time},
+    {"slider_margin", &SteeringGains::slider_margin},
+    {"fix_gain", &SteeringGains::fix_gain},
+    {"reach_fraction", &SteeringGains::reach_fraction},
+    {"pass_margin", &SteeringGains::pass_margin},
+    {"course_filter_time", &SteeringGains::course_filter_time},
+    {"crab_filter_time", &SteeringGains::crab_filter_time},
+    {"max_crab", &SteeringGains::max_crab},
+    {"min_course_speed", &SteeringGains::min_course_speed},
+    {"imu_timeout", &SteeringGains::imu_timeout},
+    {"fix_timeout", &SteeringGains::fix_timeout},
+    {"sensor_fault_timeout", &SteeringGains::sensor_fault_timeout},
+};
+constexpr const char* kSteerByOffset = "steer_by_offset";
+}  // namespace
+
+std::vector<std::string> SteeringGains::names() {
+  std::vector<std::string> all;
+  for (const NamedGain& g : kNamedGains) all.emplace_back(g.name);
+  all.emplace_back(kSteerByOffset);
+  return all;
+}
+
+void SteeringGains::set(const std::string& name, double value) {
+  if (name == kSteerByOffset) {
+    if (value != 0.0 && value != 1.0)
+      throw std::invalid_argument(std::string("steering gains: ") + kSteerByOffset +
+                                  " must be 0 or 1, got " + std::to_string(value));
+    steer_by_offset = value == 1.0;
+    return;
+  }
+  for (const NamedGain& g : kNamedGains) {
+    if (name == g.name) {
+      this->*g.field = value;
+      return;
+    }
+  }
+  std::string known;
+  for (const std::string& n : names()) known += (known.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("steering gains: unknown gain '" + name + "' (known: " + known + ")");
+}
+
+double SteeringGains::get(const std::string& name) const {
+  if (name == kSteerByOffset) return steer_by_offset ? 1.0 : 0.0;
+  for (const NamedGain& g : kNamedGains)
+    if (name == g.name) return this->*g.field;
+  throw std::invalid_argument("steering gains: unknown gain '" + name + "'");
 }
 
 const char* steeringModeName(SteeringMode mode) {
@@ -100,6 +192,11 @@ void MassTransformerController::reset() {
   elevation_ = roll_ = shaft_ = 0.0;
   wanted_ = Vec3::UnitX();
   slider_integral_ = 0.0;
+  slider_lag_ = calibration_.park_position;
+  model_crab_ = learn_after_ = pitching_since_ = 0.0;
+  closest_ = INFINITY;
+  turn_side_ = 0.0;
+  course_axis_ = Vec3::UnitX();
   cycle_start_ = next_cycle_allowed_ = 0.0;
 }
 
@@ -115,7 +212,7 @@ ControllerOutputs MassTransformerController::output(double motor, double slider,
 
 void MassTransformerController::anchor(const ControllerInputs& in) {
   const HeadAttitude attitude = attitudeFromQuaternion(in.orientation);
-  direction_ = direction_stage_ = lean_ = attitude.forward;
+  direction_ = direction_stage_ = lean_ = course_axis_ = attitude.forward;
   lean_azimuth_ = azimuthOf(lean_);
   roll_ = attitude.roll;
   const double a = travelElevationFromAcceleration(in.linear_acceleration, kMinGravityReading);
@@ -148,6 +245,13 @@ void MassTransformerController::anchorWaypoints(const Vec3& origin, double azimu
 void MassTransformerController::estimate(const ControllerInputs& in, double dt) {
   // Shaft angle relative to the head: the integral of the rate commanded last step.
   shaft_ += last_motor_ * dt;
+  // The course follows the slider's offset with a lag; the crab it gives (docs/model.md 7.4).
+  // Only offsets of the steering range count: the crab does not grow in proportion to the
+  // hundreds of micrometres of a pitching offset (measured: it saturates).
+  const double offset =
+      std::clamp(last_slider_ - neutral(), -gains_.max_steer_offset, gains_.max_steer_offset);
+  slider_lag_ += blend(dt, gains_.crab_lag_time) * (neutral() + offset - slider_lag_);
+  if (gains_.steer_by_offset) setCrab(offsetCrab());
   // Position: dead reckoning at the calibrated speed (scaled by the rate below the threshold,
   // 0 when stopped), then the camera fix.
   const double rate = std::min(std::abs(last_motor_), calibration_.cruise_omega);
@@ -192,13 +296,33 @@ void MassTransformerController::learnCrab(const Vec3& fix, double time) {
     const Vec3 horizontal(course_velocity_.x(), course_velocity_.y(), 0.0);
     const bool cruising = !status_.flipping && time >= holdoff_until_ &&
                           std::abs(elevation_) < gains_.max_elevation + gains_.top_margin;
-    if (cruising && horizontal.norm() > gains_.min_course_speed * calibration_.cruise_speed) {
-      const double crab = wrapAngle(azimuthOf(horizontal) - azimuthOf(direction_));
+    const bool moving = horizontal.norm() > gains_.min_course_speed * calibration_.cruise_speed;
+    const double crab = wrapAngle(azimuthOf(horizontal) - azimuthOf(direction_));
+    if (gains_.steer_by_offset) {
+      // The head axis and the offset's crab, filtered as the course is, to compare with it
+      // (a turning axis would otherwise show as crab).
+      const double k = blend(dt, gains_.course_filter_time);
+      course_axis_ = (course_axis_ + k * (direction_ - course_axis_)).normalized();
+      model_crab_ += k * (status_.crab - model_crab_);
+      const double measured = wrapAngle(azimuthOf(horizontal) - azimuthOf(course_axis_));
+      if (cruising && moving && time >= learn_after_) learnNeutral(measured, dt);
+    } else if (cruising && moving) {
       setCrab(status_.crab + blend(dt, gains_.crab_filter_time) * wrapAngle(crab - status_.crab));
     }
   }
   last_fix_ = fix;
   has_fix_ = true;
+}
+
+void MassTransformerController::learnNeutral(double measured_crab, double dt) {
+  // crab = c (x_lag - x_n): a course further left than the model's means a neutral further right.
+  const double error =
+      std::clamp(wrapAngle(model_crab_ - measured_crab), -gains_.max_crab, gains_.max_crab);
+  slider_integral_ += blend(dt, gains_.neutral_filter_time) * error / calibration_.crab_per_slider;
+}
+
+double MassTransformerController::offsetCrab() const {
+  return calibration_.crab_per_slider * (slider_lag_ - neutral());
 }
 
 void MassTransformerController::setCrab(double crab) {
@@ -207,10 +331,18 @@ void MassTransformerController::setCrab(double crab) {
 
 void MassTransformerController::guide(double time) {
   const int count = static_cast<int>(world_points_.size());
-  while (status_.waypoint < count &&
-         (world_points_[status_.waypoint] - position_).norm() <= mission_.tolerance) {
+  // A waypoint counts as reached within reach_fraction of the tolerance, or within the
+  // tolerance once the distance grows again (the closest approach has passed): the estimate's
+  // error would otherwise eat the margin.
+  while (status_.waypoint < count) {
+    const double distance = (world_points_[status_.waypoint] - position_).norm();
+    closest_ = std::min(closest_, distance);
+    const bool close = distance <= gains_.reach_fraction * mission_.tolerance;
+    const bool passing = distance <= mission_.tolerance && distance > closest_ + gains_.pass_margin;
+    if (!close && !passing) break;
     ++status_.waypoint;
     ++status_.reached;
+    closest_ = INFINITY;
   }
   if (status_.waypoint >= count) return;
   const Vec3 to_go = world_points_[status_.waypoint] - position_;
@@ -260,17 +392,25 @@ double MassTransformerController::motorCommand(double time) {
     status_.in_cycle = false;
     next_cycle_allowed_ = time + gains_.settle_time;
   }
-  // Buckle cycles steer the azimuth, not during a turn at elevation or the pitch back from it.
-  const bool wants_turn = std::abs(status_.azimuth_error) > gains_.turn_threshold &&
-                          !status_.flipping && time >= holdoff_until_;
-  const int side = status_.azimuth_error > 0.0 ? 1 : -1;  // +1: left (toward w)
-  if (wants_turn && turnPossible(side) && !status_.imu_stale && time >= next_cycle_allowed_) {
-    // Start when this phase gives a turn to the wanted side within the window of the best.
+  // Buckle cycles turn the direction of travel toward the waypoint, in azimuth and elevation
+  // (the cycle's turn is a direction in the plane normal to travel chosen by the flagellum's
+  // phase), not during a turn at elevation or the pitch back from it.
+  const double up_error = status_.target_elevation - elevation_;
+  const double left_error = status_.azimuth_error * std::cos(elevation_);
+  const double size = std::hypot(up_error, left_error);
+  const bool wants_turn = size > gains_.turn_threshold && size < gains_.max_buckle_error &&
+                          !status_.flipping && time >= holdoff_until_ && !status_.imu_stale &&
+                          time >= next_cycle_allowed_;
+  if (wants_turn) {
+    const double du = up_error / size, dl = left_error / size;
+    // Start when this phase turns toward the error within the window of the best phase.
     double up = 0.0, left = 0.0;
     schedule_->predictedTurn(roll_, shaft_, up, left);
-    const double threshold =
-        side * schedule_->bias_left + schedule_->deflection * std::cos(gains_.phase_window);
-    if (side * left >= threshold) {
+    const double bias = schedule_->bias_up * du + schedule_->bias_left * dl;
+    const bool possible =
+        bias + schedule_->deflection > gains_.min_turn_share * schedule_->deflection;
+    const double threshold = bias + schedule_->deflection * std::cos(gains_.phase_window);
+    if (possible && up * du + left * dl >= threshold) {
       status_.in_cycle = true;
       ++status_.cycles;
       cycle_start_ = time;
@@ -285,15 +425,51 @@ double MassTransformerController::sliderCommand(double dt) {
   const double hi = calibration_.slider_max - gains_.slider_margin;
   if (status_.imu_stale) return last_slider_;  // no tilt: hold
   const double error = status_.target_elevation - elevation_;
+  // The elevation loop takes the slider beyond tilt_mode_threshold, until tilt_exit_threshold.
+  if ((std::abs(error) > gains_.tilt_mode_threshold || status_.flipping) && !status_.pitching) {
+    status_.pitching = true;
+    pitching_since_ = last_time_;
+  }
+  if (std::abs(error) < gains_.tilt_exit_threshold && !status_.flipping) status_.pitching = false;
+  // The course shows a pitching offset's crab for a while: no neutral learning until it is gone.
+  if (status_.pitching)
+    learn_after_ = last_time_ + gains_.crab_lag_time + gains_.course_filter_time;
+  status_.neutral = neutral();
+  status_.steer_offset = 0.0;
+  if (gains_.steer_by_offset && !status_.pitching) {
+    // Steering: the offset whose crab points the course at the waypoint (straight on while the
+    // start frame's course is measured).
+    double wanted_crab =
+        course_pending_ ? 0.0 : wrapAngle(azimuthOf(wanted_) - azimuthOf(direction_));
+    // A waypoint behind: keep turning to the side already chosen (the error's sign flips as
+    // the waypoint passes behind, and the turn would stall between the two).
+    if (std::abs(wanted_crab) > M_PI / 2 && turn_side_ != 0.0 && wanted_crab * turn_side_ < 0.0)
+      wanted_crab += turn_side_ * 2.0 * M_PI;
+    turn_side_ = wanted_crab > 0.0 ? 1.0 : (wanted_crab < 0.0 ? -1.0 : 0.0);
+    status_.steer_offset = std::clamp(wanted_crab / calibration_.crab_per_slider,
+                                      -gains_.max_steer_offset, gains_.max_steer_offset);
+    const double command = neutral() + status_.steer_offset;
+    status_.slider_saturated = command > hi || command < lo;
+    return std::clamp(command, lo, hi);
+  }
   const double k = calibration_.pitch_rate_per_slider *
                    std::max(std::cos(elevation_), kMinCosElevation);  // [rad/s per m]
   // [m]; no more than the offset that pitches at max_pitch_rate.
   const double limit = gains_.max_pitch_rate / k;
-  const double proportional = std::clamp(error / (k * gains_.tilt_time_constant), -limit, limit);
+  double proportional = std::clamp(error / (k * gains_.tilt_time_constant), -limit, limit);
+  // With offset steering, never below min_pitch_offset: smaller offsets mostly turn the robot
+  // (docs/model.md 7.4), so a loop lingering near its target would steer instead of pitch.
+  if (gains_.steer_by_offset && std::abs(proportional) < gains_.min_pitch_offset)
+    proportional = std::copysign(std::min(gains_.min_pitch_offset, limit), error);
   const double increment = proportional * dt / gains_.tilt_integral_time;
   const double unclamped = calibration_.park_position + proportional + slider_integral_;
   // Anti-windup: integrate only while the output is inside the travel or the step moves it in.
-  if ((unclamped < hi || increment < 0.0) && (unclamped > lo || increment > 0.0))
+  // With offset steering the neutral is learnt from the course instead: the pitching offsets
+  // are hundreds of micrometres, and a few seconds of them would move it by tens. Only a loop
+  // that cannot settle for tilt_integral_delay (a neutral far off) integrates.
+  const bool integrate =
+      !gains_.steer_by_offset || last_time_ - pitching_since_ > gains_.tilt_integral_delay;
+  if (integrate && (unclamped < hi || increment < 0.0) && (unclamped > lo || increment > 0.0))
     slider_integral_ += increment;
   const double command = calibration_.park_position + proportional + slider_integral_;
   status_.slider_saturated = command > hi || command < lo;
@@ -334,7 +510,8 @@ ControllerOutputs MassTransformerController::step(const ControllerInputs& in) {
     const double expected = calibration_.cruise_speed * mission_.course_time;
     const bool moved_enough = moved.norm() > gains_.min_course_speed * expected;
     const double azimuth = moved_enough ? azimuthOf(moved) : azimuthOf(direction_);
-    if (moved_enough) setCrab(wrapAngle(azimuth - azimuthOf(direction_)));
+    if (moved_enough && !gains_.steer_by_offset)
+      setCrab(wrapAngle(azimuth - azimuthOf(direction_)));
     anchorWaypoints(course_origin_, azimuth);
   }
   guide(in.time);
@@ -348,8 +525,7 @@ ControllerOutputs MassTransformerController::step(const ControllerInputs& in) {
   const double motor = motorCommand(in.time);
   const double slider = sliderCommand(dt);
   status_.elevation = elevation_;
-  if (status_.flipping ||
-      std::abs(status_.target_elevation - elevation_) > gains_.tilt_mode_threshold) {
+  if (status_.flipping || status_.pitching) {
     status_.mode = SteeringMode::MassTransformer;
     status_.message = status_.at_top     ? "turning at elevation until the azimuth points the way"
                       : status_.flipping ? "pitching to turn at elevation"
@@ -359,7 +535,8 @@ ControllerOutputs MassTransformerController::step(const ControllerInputs& in) {
     status_.message = status_.in_cycle ? "buckle cycle" : "waiting for the flagellum's phase";
   } else {
     status_.mode = SteeringMode::Cruise;
-    status_.message = "cruising";
+    status_.message =
+        gains_.steer_by_offset ? "cruising, steered by the slider's offset" : "cruising";
   }
   if (status_.imu_stale) status_.message = "IMU stale: no new buckle cycle, slider held";
   last_motor_ = motor;

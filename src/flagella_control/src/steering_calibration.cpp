@@ -123,6 +123,9 @@ void SteeringCalibration::validate() const {
   requireFinite(kContext, "pitch_rate_per_slider", pitch_rate_per_slider);
   if (pitch_rate_per_slider == 0.0)
     throw std::invalid_argument("steering calibration: pitch_rate_per_slider must not be 0");
+  requireFinite(kContext, "crab_per_slider", crab_per_slider);
+  if (crab_per_slider == 0.0)
+    throw std::invalid_argument("steering calibration: crab_per_slider must not be 0");
   requireFinite(kContext, "slider_min", slider_min);
   requireInRange(kContext, "slider_max", slider_max, slider_min + 1e-9, 1.0);
   requireInRange(kContext, "park_position", park_position, slider_min, slider_max);
@@ -138,6 +141,7 @@ SteeringCalibration loadSteeringCalibration(const std::string& path) {
   c.relax = readSchedule(m, "relax", BuckleScheduleKind::Relax);
   c.three_level = readSchedule(m, "three_level", BuckleScheduleKind::ThreeLevel);
   c.pitch_rate_per_slider = m.number("pitch_rate_per_slider");
+  c.crab_per_slider = m.number("crab_per_slider");
   c.park_position = m.number("park_position");
   c.slider_min = m.number("slider_min");
   c.slider_max = m.number("slider_max");
@@ -168,6 +172,8 @@ void saveSteeringCalibration(const SteeringCalibration& c, const std::string& pa
   writeSchedule(out, "three_level", c.three_level, "omega_1, omega_2, then cruise (omega_3)");
   out << line(2, "pitch_rate_per_slider: " + numberText(c.pitch_rate_per_slider),
               "nose-up pitch rate per slider metre, head horizontal [rad/s/m]");
+  out << line(2, "crab_per_slider: " + numberText(c.crab_per_slider),
+              "course minus axis azimuth per slider metre, cruising level [rad/m]");
   out << line(2, "park_position: " + numberText(c.park_position), "slider at l = 0 [m]");
   out << line(2, "slider_min: " + numberText(c.slider_min), "travel [m]");
   out << line(2, "slider_max: " + numberText(c.slider_max), "travel [m]");

@@ -59,6 +59,24 @@ void SteeringCalibrationOptions::validate() const {
   requirePositive(kOptions, "cruise_measure", cruise_measure, "s");
   requireInRange(kOptions, "slider_step", slider_step, 1e-5, 0.05);
   requirePositive(kOptions, "pitch_window", pitch_window, "s");
+  requireInRange(kOptions, "crab_step", crab_step, 1e-7, 1e-3);
+  requireInRange(kOptions, "crab_settle", crab_settle, 0.0, 1e4);
+  requirePositive(kOptions, "crab_measure", crab_measure, "s");
+}
+
+double measureCrab(const flagella::SimulationConfig& config, double cruise_omega, double slider,
+                   double settle, double measure) {
+  SessionDriver driver(config, cruise_omega, "crab");
+  driver.commandSlider(slider);
+  Vec3 axis = Vec3::Zero();
+  double shaft = 0.0;
+  const auto cruise = [&](double) { return cruise_omega; };
+  advance(driver, settle, cruise, axis, shaft);
+  const Vec3 start = headPosition(driver);
+  axis.setZero();
+  advance(driver, measure, cruise, axis, shaft);
+  const Vec3 moved = headPosition(driver) - start;
+  return wrapAngle(azimuthOf(moved) - azimuthOf(axis));
 }
 
 void fitPhaseLaw(const std::vector<PulseObservation>& pulses, BuckleSchedule& schedule) {
@@ -226,9 +244,24 @@ SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
     report("slider: park " + numberString(c.park_position * 1e3) + " mm, pitch rate " +
            numberString(c.pitch_rate_per_slider * 1e-3 * 180 / M_PI) + " deg/s per mm");
   }
+  // 5. Crab angle per slider metre: parked a few micrometres to either side (docs/model.md 7.4).
+  {
+    const auto crabAt = [&](double offset) {
+      return measureCrab(config, c.cruise_omega,
+                         std::clamp(c.park_position + offset, c.slider_min, c.slider_max),
+                         options.crab_settle, options.crab_measure);
+    };
+    const double plus = crabAt(options.crab_step), minus = crabAt(-options.crab_step);
+    c.crab_per_slider = (plus - minus) / (2.0 * options.crab_step);
+    const double deg = 180 / M_PI;
+    report("crab: " + numberString(minus * deg) + " / " + numberString(plus * deg) + " deg at -+" +
+           numberString(options.crab_step * 1e6) + " um of slider, " +
+           numberString(c.crab_per_slider * 1e-6 * deg) + " deg per um");
+  }
   source << "cruise " << options.cruise_fraction << " omega_b, pulses " << options.pulse_factor
          << " omega_b for " << options.pulse_duration << " s, " << options.pulses
-         << " per schedule, windows " << options.window << " s";
+         << " per schedule, windows " << options.window << " s, crab at +-"
+         << options.crab_step * 1e6 << " um over " << options.crab_measure << " s";
   c.source = source.str();
   try {
     c.validate();

@@ -210,6 +210,10 @@ SteeringRunResult runSteering(const flagella::SimulationConfig& config,
     sample.azimuth_error = status.azimuth_error;
     sample.elevation = status.elevation;
     sample.target_elevation = status.target_elevation;
+    sample.crab = status.crab;
+    sample.neutral = status.neutral;
+    sample.steer_offset = status.steer_offset;
+    sample.waypoint = status.waypoint;
   };
   const auto waypoints = [&]() { return controller.waypoints(); };
   const double tolerance = controller.mission().tolerance;
@@ -267,14 +271,15 @@ std::string steeringPathCsv(const SteeringRunResult& result) {
   std::ostringstream csv;
   csv.precision(8);
   csv << "time,x,y,z,est_x,est_y,est_z,motor,slider,mode,fx,fy,fz,est_fx,est_fy,est_fz,"
-         "azimuth_error,elevation,target_elevation\n";
+         "azimuth_error,elevation,target_elevation,crab,neutral,steer_offset,waypoint\n";
   for (const SteeringSample& s : result.samples) {
     csv << s.time << "," << s.position.x() << "," << s.position.y() << "," << s.position.z() << ","
         << s.estimate.x() << "," << s.estimate.y() << "," << s.estimate.z() << "," << s.motor << ","
         << s.slider << "," << steeringModeName(s.mode);
     for (const Vec3* v : {&s.forward, &s.estimated_forward})
       csv << "," << v->x() << "," << v->y() << "," << v->z();
-    csv << "," << s.azimuth_error << "," << s.elevation << "," << s.target_elevation << "\n";
+    csv << "," << s.azimuth_error << "," << s.elevation << "," << s.target_elevation << ","
+        << s.crab << "," << s.neutral << "," << s.steer_offset << "," << s.waypoint << "\n";
   }
   return csv.str();
 }

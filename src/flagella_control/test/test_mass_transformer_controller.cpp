@@ -6,7 +6,11 @@
 // (m1, m2, t = -f), the accelerometer gravity in the head frame, the camera the position at 1 Hz.
 // Above 45 deg of elevation the azimuth precesses at `top_rate` while the motor turns, for
 // `top_duration` after each pitch-up, and the robot's course runs `crab` to the left of its head
-// axis (docs/model.md 7.4: what the simulator shows).
+// axis plus `offset_crab` per metre of slider offset from the true neutral (followed with a 20 s
+// lag), while that offset also turns the axis at `offset_turn` per metre up to 60 um
+// (docs/model.md 7.4: what the simulator shows). Tests of the turn at elevation and of a constant
+// learnt crab run the controller without offset steering (legacyGains) on a plant without the
+// offset's crab.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -43,10 +47,20 @@ fc::SteeringCalibration calibration() {
   c.three_level.lead_duration = 2.0;
   c.three_level.lead_omega = 0.1;
   c.pitch_rate_per_slider = 100.0;  // [rad/s per m]: 5.7 deg/s per mm
+  c.crab_per_slider = -2.5e4;       // [rad/m]: 1.4 deg to the right per um of slider
   c.park_position = -1e-3;
   c.slider_min = -8e-3;
   c.slider_max = 8e-3;
   return c;
+}
+
+// The controller before offset steering: the slider holds the elevation, the crab is learnt as
+// a constant, large turns at elevation.
+fc::SteeringGains legacyGains() {
+  fc::SteeringGains g;
+  g.steer_by_offset = false;
+  g.large_turn = g.blocked_turn = 0.8;
+  return g;
 }
 
 fc::WaypointMission mission(const std::vector<Vec3>& points, double tolerance = 0.01) {
@@ -60,10 +74,13 @@ fc::WaypointMission mission(const std::vector<Vec3>& points, double tolerance = 
 struct Plant {
   Vec3 forward = Vec3::UnitX(), position = Vec3::Zero();
   double roll = 0.0, roll_rate = -0.6, slider = -1e-3, slider_error = 0.0;
-  double top_rate = -0.05;    // [rad/s] above 45 deg
-  double top_duration = 1e9;  // [s] after each pitch-up
-  double time_high = 0.0;     // [s] since the pitch-up
-  double crab = 0.0;          // [rad], course minus axis azimuth
+  double top_rate = -0.05;      // [rad/s] above 45 deg
+  double top_duration = 1e9;    // [s] after each pitch-up
+  double time_high = 0.0;       // [s] since the pitch-up
+  double crab = 0.0;            // [rad], course minus axis azimuth
+  double offset_crab = -2.5e4;  // [rad/m] of slider offset from the neutral (lagged)
+  double offset_turn = -170.0;  // [rad/s per m]: azimuth rate of the head axis
+  double slider_lag = -1e-3;    // [m]
   fc::SteeringCalibration truth = calibration();
   fc::BuckleScheduleKind kind = fc::BuckleScheduleKind::Relax;
   double shaft = 0.0, cycle_left = -1.0, turn_up = 0.0, turn_left = 0.0, time = 0.0;
@@ -122,16 +139,32 @@ struct Plant {
     const double new_elevation = std::clamp(elevation + pitch_rate * dt, -1.55, 1.55);
     const double precession =
         high && time_high < top_duration && out.motor_command > 0.0 ? top_rate * dt : 0.0;
-    forward = fc::directionFrom(fc::azimuthOf(forward) + precession, new_elevation);
+    const double neutral = truth.park_position - slider_error;
+    slider_lag += dt / 20.0 * (slider - slider_lag);
+    // The turn saturates while the pitch grows with the offset: the simulator turns about
+    // 1.5 deg per deg of elevation at small offsets and 0.7 when the slider pitches the robot
+    // (docs/model.md 7.4).
+    const double turn = offset_turn * std::clamp(slider - neutral, -60e-6, 60e-6) * dt;
+    forward = fc::directionFrom(fc::azimuthOf(forward) + precession + turn, new_elevation);
+    // The offset's crab saturates (docs/model.md 7.4: about 65 deg at 80 um).
+    const double course_crab =
+        crab + std::clamp(offset_crab * (slider_lag - neutral), -60 * kDeg, 60 * kDeg);
     const double speed =
         truth.cruise_speed * std::min(out.motor_command, truth.cruise_omega) / truth.cruise_omega;
-    position +=
-        speed * dt * fc::directionFrom(fc::azimuthOf(forward) + crab, fc::elevationOf(forward));
+    position += speed * dt *
+                fc::directionFrom(fc::azimuthOf(forward) + course_crab, fc::elevationOf(forward));
     roll = fc::wrapAngle(roll + roll_rate * dt);
     time += dt;
     ++steps;
   }
 };
+
+// A plant whose slider offset does not move the course (for legacyGains).
+Plant legacyPlant() {
+  Plant p;
+  p.offset_crab = p.offset_turn = 0.0;
+  return p;
+}
 
 fc::ControllerOutputs run(fc::MassTransformerController& c, Plant& p, double seconds,
                           std::vector<double>* motor = nullptr) {
@@ -145,7 +178,7 @@ fc::ControllerOutputs run(fc::MassTransformerController& c, Plant& p, double sec
   return out;
 }
 
-TEST(MassTransformerController, ModeFollowsTheHeadingError) {
+TEST(MassTransformerController, ModeFollowsTheHeadingErrorWithoutOffsetSteering) {
   struct Case {
     Vec3 waypoint;
     fc::SteeringMode mode;
@@ -159,14 +192,15 @@ TEST(MassTransformerController, ModeFollowsTheHeadingError) {
       {Vec3(-0.5, 0.05, 0.0), fc::SteeringMode::MassTransformer, "behind"},
   };
   for (const Case& c : cases) {
-    fc::MassTransformerController controller(mission({c.waypoint}), calibration());
-    Plant plant;
+    fc::MassTransformerController controller(mission({c.waypoint}), calibration(), legacyGains());
+    Plant plant = legacyPlant();
     plant.roll_rate = 0.0;
     run(controller, plant, 0.5);
     EXPECT_EQ(controller.status().mode, c.mode) << c.what << ": " << controller.status().message;
   }
-  fc::MassTransformerController behind(mission({Vec3(-0.5, 0.05, 0.0)}), calibration());
-  Plant plant;
+  fc::MassTransformerController behind(mission({Vec3(-0.5, 0.05, 0.0)}), calibration(),
+                                       legacyGains());
+  Plant plant = legacyPlant();
   run(behind, plant, 0.5);
   EXPECT_TRUE(behind.status().flipping);
   EXPECT_NEAR(behind.status().target_elevation, behind.gains().flip_elevation, 1e-12);
@@ -202,6 +236,8 @@ TEST(MassTransformerController, BothBuckleSchedulesDriveTheirLevels) {
 }
 
 TEST(MassTransformerController, CyclesStartAtThePhaseThatTurnsTheWantedWay) {
+  // Waypoints to either side: each cycle starts when its calibrated turn points along the
+  // error of the direction of travel (up, left).
   for (const int side : {1, -1}) {
     const fc::SteeringCalibration cal = calibration();
     fc::MassTransformerController controller(mission({Vec3(0.5, side * 0.25, 0.0)}), cal);
@@ -214,10 +250,16 @@ TEST(MassTransformerController, CyclesStartAtThePhaseThatTurnsTheWantedWay) {
       const fc::ControllerOutputs out = controller.step(in);
       if (previous == cal.cruise_omega && out.motor_command == cal.relax.pulse_omega) {
         ++starts;
+        // The turn of a cycle started now points along the error (up, left) within the window.
         double up = 0.0, left = 0.0;
         cal.relax.predictedTurn(roll, shaft, up, left);
-        EXPECT_GT(side * left,
-                  cal.relax.deflection * std::cos(controller.gains().phase_window) - 1e-9)
+        const fc::SteeringStatus& st = controller.status();
+        const double du = st.target_elevation - st.elevation;
+        const double dl = st.azimuth_error * std::cos(st.elevation);
+        const double size = std::hypot(du, dl);
+        const double bias = (cal.relax.bias_up * du + cal.relax.bias_left * dl) / size;
+        EXPECT_GT((up * du + left * dl) / size,
+                  bias + cal.relax.deflection * std::cos(controller.gains().phase_window) - 1e-9)
             << "side " << side << ", cycle " << starts;
       }
       previous = out.motor_command;
@@ -230,10 +272,10 @@ TEST(MassTransformerController, CyclesStartAtThePhaseThatTurnsTheWantedWay) {
 TEST(MassTransformerController, ASideTheCyclesCannotTurnToIsTurnedAtElevation) {
   fc::SteeringCalibration cal = calibration();
   cal.relax.bias_left = -5 * kDeg;  // every cycle turns right by 1 to 9 deg
-  fc::SteeringGains gains;
+  fc::SteeringGains gains = legacyGains();
   gains.blocked_turn = 0.3;  // a 45 deg left error is beyond it
   fc::MassTransformerController controller(mission({Vec3(0.5, 0.5, 0.0)}), cal, gains);
-  Plant plant;
+  Plant plant = legacyPlant();
   plant.top_rate = 0.05;  // precesses left at elevation
   run(controller, plant, 1.0);
   EXPECT_FALSE(controller.status().turn_possible);
@@ -253,7 +295,8 @@ TEST(MassTransformerController, ASideTheCyclesCannotTurnToIsTurnedAtElevation) {
   EXPECT_NEAR(fc::azimuthOf(plant.forward), 45 * kDeg, controller.gains().exit_window + 0.15);
 }
 
-TEST(MassTransformerController, AWaypointBehindIsReachedByATurnAtElevationEitherWay) {
+TEST(MassTransformerController,
+     AWaypointBehindIsReachedByATurnAtElevationEitherWayWithoutOffsetSteering) {
   struct Case {
     double rate, duration;
     const char* what;
@@ -261,8 +304,8 @@ TEST(MassTransformerController, AWaypointBehindIsReachedByATurnAtElevationEither
   for (const Case& c : {Case{-0.05, 1e9, "precessing right"}, Case{0.04, 1e9, "precessing left"},
                         Case{-0.05, 40.0, "precessing right for 40 s per pitch-up"}}) {
     fc::MassTransformerController controller(mission({Vec3(-0.03, 0.01, 0.0)}, 0.006),
-                                             calibration());
-    Plant plant;
+                                             calibration(), legacyGains());
+    Plant plant = legacyPlant();
     plant.top_rate = c.rate;
     plant.top_duration = c.duration;
     double closest = 1.0;
@@ -282,11 +325,13 @@ TEST(MassTransformerController, AWaypointBehindIsReachedByATurnAtElevationEither
   }
 }
 
-TEST(MassTransformerController, SliderStopsAtTheTargetTiltAndFindsAnUnknownOffset) {
+TEST(MassTransformerController,
+     SliderStopsAtTheTargetTiltAndFindsAnUnknownOffsetWithoutOffsetSteering) {
   const double target = std::atan2(0.3, 1.0);  // waypoint 16.7 deg up
   for (const double slider_error : {0.0, 0.8e-3}) {
-    fc::MassTransformerController controller(mission({Vec3(1.0, 0.0, 0.3)}), calibration());
-    Plant plant;
+    fc::MassTransformerController controller(mission({Vec3(1.0, 0.0, 0.3)}), calibration(),
+                                             legacyGains());
+    Plant plant = legacyPlant();
     plant.slider_error = slider_error;  // COM offset unknown to the calibration
     plant.roll_rate = 0.0;
     run(controller, plant, 400.0);
@@ -329,10 +374,10 @@ TEST(MassTransformerController, StaleFixesLeaveDeadReckoning) {
 }
 
 TEST(MassTransformerController, ReachesWaypointsWithTheRightModel) {
-  // Ahead, a climb, then a turn of about 20 deg to the left: every waypoint within 5 mm of the
-  // true path.
+  // Ahead, a climb, then a turn of about 20 deg to the left going down (the slider turns the
+  // robot left as it dives, docs/model.md 7.4): every waypoint within 5 mm of the true path.
   fc::MassTransformerController controller(
-      mission({Vec3(0.02, 0.0, 0.0), Vec3(0.04, 0.0, 0.008), Vec3(0.06, 0.008, 0.008)}, 0.005),
+      mission({Vec3(0.02, 0.0, 0.0), Vec3(0.04, 0.0, 0.008), Vec3(0.06, 0.008, 0.0)}, 0.005),
       calibration());
   Plant plant;
   double closest[3] = {1, 1, 1};
@@ -346,12 +391,13 @@ TEST(MassTransformerController, ReachesWaypointsWithTheRightModel) {
   for (int i = 0; i < 3; ++i) EXPECT_LT(closest[i], 0.0075) << "waypoint " << i;
 }
 
-TEST(MassTransformerController, LearnsTheCrabAngleFromTheFixesAndSteersTheCourse) {
+TEST(MassTransformerController, LearnsAConstantCrabAngleFromTheFixesWithoutOffsetSteering) {
   // The course runs 25 deg right of the head axis: the controller learns the offset from the
   // camera fixes, points the axis left of the waypoint, and reaches it.
   const double crab = -25 * kDeg;
-  fc::MassTransformerController controller(mission({Vec3(0.12, 0.0, 0.0)}, 0.005), calibration());
-  Plant plant;
+  fc::MassTransformerController controller(mission({Vec3(0.12, 0.0, 0.0)}, 0.005), calibration(),
+                                           legacyGains());
+  Plant plant = legacyPlant();
   plant.crab = crab;
   double closest = 1.0;
   for (long k = 0; k < 900 * kRate && controller.status().mode != fc::SteeringMode::Finished; ++k) {
@@ -389,6 +435,90 @@ TEST(MassTransformerController, AStartFrameOnTheCourseLiesAlongTheMeasuredCourse
   EXPECT_LT(closest, 0.0075);
 }
 
+TEST(MassTransformerController, OffsetSteeringTurnsEitherWayAndLearnsTheNeutral) {
+  // The course follows micrometres of slider offset (plant: -1.4 deg per um, lagged 20 s) and
+  // the head axis turns with it, right and up for a positive offset (docs/model.md 7.4); the
+  // neutral is 15 um off the calibration's park position. Waypoints 30 deg to either side (down
+  // to the left, up to the right, as the slider turns the robot) are reached without a turn at
+  // elevation, the offset stays within max_steer_offset, and the neutral is learnt.
+  struct Case {
+    Vec3 waypoint;
+    const char* what;
+  };
+  const double slider_error = 15e-6;
+  for (const Case& c : {Case{Vec3(0.06, 0.035, -0.015), "30 deg left, down"},
+                        Case{Vec3(0.06, -0.035, 0.015), "30 deg right, up"},
+                        Case{Vec3(-0.06, 0.05, -0.03), "behind: 140 deg left, down"}}) {
+    fc::MassTransformerController controller(mission({c.waypoint}, 0.005), calibration());
+    Plant plant;
+    plant.slider_error = slider_error;
+    plant.roll_rate = 0.0;
+    double closest = 1.0;
+    double max_offset = 0.0;
+    for (long k = 0; k < 1800 * kRate && controller.status().mode != fc::SteeringMode::Finished;
+         ++k) {
+      const fc::ControllerOutputs out = controller.step(plant.sense());
+      plant.apply(out);
+      closest = std::min(closest, (plant.position - controller.waypoints()[0]).norm());
+      if (!controller.status().pitching)
+        max_offset =
+            std::max(max_offset, std::abs(out.slider_position - controller.status().neutral));
+    }
+    EXPECT_EQ(controller.status().mode, fc::SteeringMode::Finished)
+        << c.what << ": " << controller.status().message;
+    EXPECT_LT(closest, 0.005) << c.what;
+    EXPECT_EQ(controller.status().flips, 0) << c.what;
+    EXPECT_LE(max_offset, controller.gains().max_steer_offset + 1e-12) << c.what;
+    // The neutral: within 5 um of the truth (a 7 deg crab error).
+    EXPECT_NEAR(controller.status().neutral, calibration().park_position - slider_error, 5e-6)
+        << c.what;
+  }
+}
+
+TEST(MassTransformerController, OffsetSteeringLeavesTheElevationToTheSliderLoop) {
+  // A climb of 16.7 deg: the elevation loop pitches the robot until within
+  // tilt_exit_threshold, then lets go; the slider returns near the neutral.
+  const double target = std::atan2(0.3, 1.0);
+  fc::MassTransformerController controller(mission({Vec3(1.0, 0.0, 0.3)}), calibration());
+  Plant plant;
+  plant.roll_rate = 0.0;
+  run(controller, plant, 1.0);
+  EXPECT_EQ(controller.status().mode, fc::SteeringMode::MassTransformer);
+  EXPECT_TRUE(controller.status().pitching);
+  fc::ControllerOutputs out;
+  for (int k = 0; k < 60 && controller.status().pitching; ++k) out = run(controller, plant, 1.0);
+  EXPECT_FALSE(controller.status().pitching);
+  out = run(controller, plant, 30.0);
+  EXPECT_NEAR(fc::elevationOf(plant.forward), target, controller.gains().tilt_mode_threshold);
+  EXPECT_LE(std::abs(out.slider_position - calibration().park_position),
+            controller.gains().max_steer_offset + 2e-5);
+  EXPECT_FALSE(controller.status().slider_saturated);
+}
+
+TEST(MassTransformerController, AWaypointPassedWithinTheToleranceCountsAfterTheClosestApproach) {
+  // No turning at all (no cycles, no offset steering): the straight path passes the waypoint
+  // 6 mm to the side, beyond reach_fraction x 10 mm but within the tolerance. It counts once
+  // the estimated distance has grown by pass_margin past its minimum, not before.
+  fc::SteeringGains gains = legacyGains();
+  gains.turn_threshold = gains.max_buckle_error = 1.5;
+  gains.large_turn = gains.blocked_turn = M_PI;
+  fc::MassTransformerController controller(mission({Vec3(0.03, 0.006, 0.0)}, 0.01), calibration(),
+                                           gains);
+  Plant plant = legacyPlant();
+  plant.roll_rate = 0.0;
+  double finished_x = -1.0;
+  for (long k = 0; k < 200 * kRate && finished_x < 0.0; ++k) {
+    plant.apply(controller.step(plant.sense()));
+    if (controller.status().mode == fc::SteeringMode::Finished) finished_x = plant.position.x();
+  }
+  ASSERT_GT(finished_x, 0.0) << controller.status().message;
+  EXPECT_EQ(controller.status().cycles, 0);
+  // Past the closest approach (x = 30 mm) by the margin: sqrt((x-30)^2 + 6^2) = 7 mm.
+  const double passed =
+      std::sqrt(std::pow(0.006 + controller.gains().pass_margin, 2) - 0.006 * 0.006);
+  EXPECT_NEAR(finished_x, 0.03 + passed, 1.5e-3);
+}
+
 TEST(MassTransformerController, StepDoesNotAllocate) {
   fc::MassTransformerController controller(mission({Vec3(0.5, 0.1, 0.1), Vec3(0.0, 0.0, 0.0)}),
                                            calibration());
@@ -415,6 +545,20 @@ TEST(MassTransformerController, InvalidGainsAndMissionsNameTheField) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("points"), std::string::npos) << e.what();
   }
+  // Gains by name (the node's parameters, --gain): every name reads back what it set.
+  fc::SteeringGains named;
+  for (const std::string& name : fc::SteeringGains::names()) {
+    const double value = name == "steer_by_offset" ? 0.0 : 0.123;
+    named.set(name, value);
+    EXPECT_EQ(named.get(name), value) << name;
+  }
+  try {
+    named.set("max_steer_ofset", 1e-5);
+    ADD_FAILURE() << "accepted an unknown gain";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("max_steer_offset"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(named.set("steer_by_offset", 0.5), std::invalid_argument);
   fc::SteeringCalibration bad = calibration();
   bad.cruise_omega = 2.0;  // above the threshold
   EXPECT_THROW(fc::MassTransformerController(mission({Vec3(1, 0, 0)}), bad), std::invalid_argument);

@@ -69,6 +69,7 @@ TEST(SteeringCalibration, YamlRoundTripsAndNamesBadFields) {
   c.three_level.relax_duration = 0.0;
   c.three_level.lead_duration = 2.0;
   c.pitch_rate_per_slider = 119.8;
+  c.crab_per_slider = -2.27e4;
   c.park_position = -1e-3;
   c.slider_min = -8e-3;
   c.slider_max = 8e-3;
@@ -82,7 +83,17 @@ TEST(SteeringCalibration, YamlRoundTripsAndNamesBadFields) {
   EXPECT_EQ(r.three_level.lead_duration, c.three_level.lead_duration);
   EXPECT_EQ(r.three_level.kind, fc::BuckleScheduleKind::ThreeLevel);
   EXPECT_EQ(r.pitch_rate_per_slider, c.pitch_rate_per_slider);
+  EXPECT_EQ(r.crab_per_slider, c.crab_per_slider);
   EXPECT_EQ(r.source, c.source);
+  // A crab law of 0 cannot be inverted by the offset steering.
+  fc::SteeringCalibration no_crab = c;
+  no_crab.crab_per_slider = 0.0;
+  try {
+    no_crab.validate();
+    ADD_FAILURE() << "accepted crab_per_slider = 0";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("crab_per_slider"), std::string::npos) << e.what();
+  }
   // cruise above the threshold
   std::ifstream in(path);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

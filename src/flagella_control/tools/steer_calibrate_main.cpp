@@ -29,6 +29,9 @@ int main(int argc, char** argv) {
   app.add_option("--relax-duration", options.relax_duration, "relax schedule: rest after [s]");
   app.add_option("--lead-duration", options.lead_duration, "three-level: rest before [s]");
   app.add_option("--pulses", options.pulses, "calibration pulses per schedule");
+  app.add_option("--crab-step", options.crab_step,
+                 "crab runs: slider offsets +- this from the park position [m]");
+  app.add_option("--crab-measure", options.crab_measure, "crab runs: measured span [s]");
   CLI11_PARSE(app, argc, argv);
   try {
     const auto t0 = std::chrono::steady_clock::now();

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,7 @@ struct SteeringInputs {
   std::string config_path, waypoints_path, calibration_path;
   std::vector<std::string> overrides;
   std::string schedule = "relax";
+  std::vector<std::string> gain_settings;  ///< name=value
 
   /// Registers --config, --waypoints, --calibration, --set and --schedule on `app`.
   void addTo(CLI::App& app) {
@@ -33,13 +36,33 @@ struct SteeringInputs {
     app.add_option("--set", overrides, "config override a.b=value (repeatable)");
     app.add_option("--schedule", schedule, "buckle schedule: relax or three_level")
         ->check(CLI::IsMember({"relax", "three_level"}));
+    app.add_option("--gain", gain_settings,
+                   "controller gain name=value (repeatable; SteeringGains in "
+                   "mass_transformer_controller.h, e.g. max_steer_offset=8e-5)");
   }
   SteeringCalibration calibration() const { return loadSteeringCalibration(calibration_path); }
   WaypointMission mission() const { return loadWaypointMission(waypoints_path); }
-  /// The default gains with the chosen schedule.
+  /// The default gains with the chosen schedule and the --gain settings (validated).
   SteeringGains gains() const {
     SteeringGains g;
     g.schedule = scheduleFromName(schedule);
+    for (const std::string& setting : gain_settings) {
+      const std::size_t eq = setting.find('=');
+      if (eq == std::string::npos || eq == 0)
+        throw std::invalid_argument("--gain '" + setting + "': expected name=value");
+      const std::string value = setting.substr(eq + 1);
+      std::size_t used = 0;
+      double number = 0.0;
+      try {
+        number = std::stod(value, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != value.size() || !std::isfinite(number))
+        throw std::invalid_argument("--gain '" + setting + "': the value is not a finite number");
+      g.set(setting.substr(0, eq), number);
+    }
+    g.validate();
     return g;
   }
 };

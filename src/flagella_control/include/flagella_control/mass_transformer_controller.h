@@ -2,36 +2,45 @@
 // robot with its two inputs, the motor rate and the internal slider. ControllerCore contract:
 // fixed step (on every IMU sample), ROS-free, no heap allocation in step().
 //
+// What the simulated robot does (docs/model.md 7.4): micrometres of slider offset from the
+// neutral position (no COM-COV couple) make its course run at a crab angle to the head axis
+// (calibrated `crab_per_slider`, about 1.3 deg per um) and turn the axis the same way while it
+// pitches (right and up, or left and down); hundreds of micrometres pitch it; a buckle cycle
+// turns the direction of travel by a few degrees toward a direction set by the flagellum's phase.
+//
 // Estimator: the head axis from the IMU (two cascaded first-order filters remove the head's
-// wobble) and the crab angle between it and the course over ground: the robot does not swim
-// along its head axis (measured in the simulator: its course runs about 30 deg to the right of
-// it, docs/model.md 7.4), so the direction of travel is the axis turned by a crab angle learnt
-// from the camera fixes (the course from their filtered velocity); its elevation from the
-// accelerometer (filtered), the head roll and the shaft angle (integral of the commanded rate) for
-// the flagellum's phase, and the position dead-reckoned at the calibrated cruise speed and pulled
-// toward each camera fix. Guidance: toward the current waypoint; reached within the mission's
-// tolerance. Modes:
-//  - cruise: omega_3 below the buckling threshold, slider holding the target elevation;
-//  - buckle-to-turn: azimuth error above `turn_threshold`: buckle cycles (schedule relax or
-//    three_level), each started when the flagellum's phase makes the calibrated turn of the
-//    cycle (a constant part plus a part set by the phase) go to the wanted side, then a settling
-//    time before the next; a side the cycles cannot turn to is left to the turn at elevation;
-//  - mass-transformer: an elevation change above `tilt_mode_threshold`, or a turn at elevation
-//    for an azimuth error above `large_turn` (`blocked_turn` toward a side buckle cycles cannot
-//    turn to). The slider pitches the robot up (down for a diving leg) to `flip_elevation`;
-//    after a pitch-up the robot's azimuth precesses (measured in the simulator: 2-4 deg/s to the
-//    right for about 40 s, 90-150 deg in all, then it stalls; docs/model.md 7.4). The controller
-//    cruises there and pitches back down to the leg's elevation once the direction of travel,
-//    carried on at its measured azimuth rate for `exit_delay` (the turn goes on while it pitches
-//    down), points within `exit_window` of the wanted azimuth, or after `max_turn_time`; a turn
-//    still missing is taken by the next pitch-up after `descent_holdoff`. Feedback only: no model
-//    of the turn, either side.
-// The slider loop: PI on the elevation error from the accelerometer, gain scheduled by the
-// calibrated pitch rate per slider metre and cos(elevation), anti-windup at the travel limits;
-// its integral finds the slider position that cancels an unknown COM-COV offset.
+// wobble); the course is that axis turned by the crab angle (with `steer_by_offset`, the crab
+// the lagged slider offset gives; without, a constant crab learnt from the camera fixes); the
+// elevation from the accelerometer (filtered), the head roll and the shaft angle (integral of
+// the commanded rate) for the flagellum's phase, and the position dead-reckoned at the
+// calibrated cruise speed and pulled toward each camera fix. Guidance: toward the current
+// waypoint; reached within `reach_fraction` of the mission's tolerance, or within it once the
+// estimated distance grows again. Modes:
+//  - cruise: omega_3 below the buckling threshold; with `steer_by_offset` the slider sits at the
+//    offset whose crab points the course at the waypoint (at most `max_steer_offset`; to one side
+//    once the waypoint is behind); the neutral is learnt by comparing the camera's course with
+//    the crab the offset should give (`neutral_filter_time`);
+//  - buckle-to-turn: an error of the direction of travel (azimuth and elevation) between
+//    `turn_threshold` and `max_buckle_error`: buckle cycles (schedule relax or three_level), each
+//    started when the flagellum's phase points the calibrated turn of the cycle (a constant part
+//    plus a part set by the phase) along the error, then a settling time before the next;
+//  - mass-transformer: the elevation error beyond `tilt_mode_threshold`, until it is within
+//    `tilt_exit_threshold`: PI on the accelerometer's elevation, gain scheduled by the calibrated
+//    pitch rate per slider metre and cos(elevation), anti-windup at the travel limits (with
+//    `steer_by_offset`: at least `min_pitch_offset`, and the integral only after
+//    `tilt_integral_delay` without settling); or a turn at elevation for an azimuth error above
+//    `large_turn` (`blocked_turn` toward a side buckle cycles cannot turn to; pi by default, for
+//    the earlier design without offset steering 0.8): the slider pitches the robot up (down for a
+//    diving leg) to `flip_elevation`, where its azimuth precesses (measured: 2-4 deg/s to the
+//    right for about 40 s), and back down once the direction of travel, carried on at its
+//    measured azimuth rate for `exit_delay`, points within `exit_window` of the wanted azimuth,
+//    or after `max_turn_time`; a turn still missing is taken by the next pitch-up after
+//    `descent_holdoff`.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "flagella_control/controller_core.h"
@@ -43,11 +52,17 @@ namespace flagella::control {
 
 struct SteeringGains {
   BuckleScheduleKind schedule = BuckleScheduleKind::Relax;
-  double heading_filter_time = 2.5;   ///< each of the two direction filters [s]
-  double tilt_filter_time = 0.5;      ///< accelerometer elevation filter [s]
-  double turn_threshold = 0.07;       ///< azimuth error that calls for buckle turns [rad]
-  double large_turn = 0.8;            ///< azimuth error that calls for a turn at elevation [rad]
-  double blocked_turn = 0.8;          ///< the same toward a side buckle cycles cannot turn to
+  double heading_filter_time = 2.5;  ///< each of the two direction filters [s]
+  double tilt_filter_time = 0.5;     ///< accelerometer elevation filter [s]
+  double turn_threshold =
+      0.07;  ///< error of the direction of travel that calls for buckle turns [rad]
+  /// Buckle turns only below this error [rad]: larger ones are the slider's (buckled flagella
+  /// are where the simulation is hardest, and a cycle turns by about 2 deg).
+  double max_buckle_error = 0.35;
+  /// Azimuth error that calls for a turn at elevation [rad]: pi (never) by default, since the
+  /// slider's offset turns either way; 0.8 suits steering without it (steer_by_offset false).
+  double large_turn = M_PI;
+  double blocked_turn = M_PI;         ///< the same toward a side buckle cycles cannot turn to [rad]
   double flip_elevation = 1.05;       ///< elevation of that turn (60 deg) [rad]
   double top_margin = 0.17;           ///< within this of flip_elevation the robot is turning
   double lean_filter_time = 1.0;      ///< filter of the head axis while turning at elevation [s]
@@ -61,13 +76,28 @@ struct SteeringGains {
   /// Buckle turns to a side only if the best cycle turns that way by at least this share of the
   /// calibrated phase-dependent deflection (else the constant part wins: no turn that way).
   double min_turn_share = 0.25;
-  double settle_time = 6.0;            ///< after a cycle, before the next [s]
-  double max_elevation = 0.6;          ///< limit of a leg's target elevation (34 deg) [rad]
-  double tilt_time_constant = 6.0;     ///< closed-loop time constant of the slider loop [s]
-  double max_pitch_rate = 0.15;        ///< the slider loop asks for no faster pitch [rad/s]
-  double tilt_integral_time = 12.0;    ///< its integral time [s]
-  double slider_margin = 2e-4;         ///< keep off the hard stops by this [m]
-  double fix_gain = 0.3;               ///< position: p += gain (fix - p)
+  double settle_time = 6.0;           ///< after a cycle, before the next [s]
+  double max_elevation = 0.6;         ///< limit of a leg's target elevation (34 deg) [rad]
+  double tilt_time_constant = 6.0;    ///< closed-loop time constant of the slider loop [s]
+  double max_pitch_rate = 0.15;       ///< the slider loop asks for no faster pitch [rad/s]
+  double tilt_integral_time = 12.0;   ///< its integral time [s]
+  double tilt_exit_threshold = 0.05;  ///< the elevation loop lets go below this error [rad]
+  /// With offset steering the elevation loop integrates only after this long without settling
+  /// (a neutral far off) [s]: short corrections would move the neutral by tens of micrometres.
+  double tilt_integral_delay = 15.0;
+  /// Azimuth steered by small slider offsets around the neutral (crab angle, see above); false:
+  /// the slider only holds the elevation and the crab is learnt as a constant.
+  bool steer_by_offset = true;
+  double min_pitch_offset = 2e-4;  ///< with offset steering: the elevation loop's least offset [m]
+  double crab_lag_time = 20.0;     ///< the course follows the offset with this lag [s]
+  double max_steer_offset = 8e-5;  ///< largest steering offset from the neutral [m]
+  double neutral_filter_time = 60.0;  ///< learning the neutral from the course [s]
+  double slider_margin = 2e-4;        ///< keep off the hard stops by this [m]
+  double fix_gain = 0.3;              ///< position: p += gain (fix - p)
+  /// A waypoint is reached within this share of the mission's tolerance, or within the
+  /// tolerance once the estimated distance has grown by pass_margin past its minimum.
+  double reach_fraction = 0.5;
+  double pass_margin = 1e-3;           ///< [m]
   double course_filter_time = 20.0;    ///< velocity from camera fixes, filtered [s]
   double crab_filter_time = 30.0;      ///< crab angle (course minus axis azimuth), filtered [s]
   double max_crab = 1.0;               ///< the crab estimate is held within +-this [rad]
@@ -77,6 +107,13 @@ struct SteeringGains {
   double sensor_fault_timeout = 10.0;  ///< no IMU for this long: fault, motor stopped [s]
   /// Throws std::invalid_argument naming the field and its range.
   void validate() const;
+  /// Sets a numeric gain by its field name (`steer_by_offset` takes 0 or 1); throws
+  /// std::invalid_argument for an unknown name listing the known ones.
+  void set(const std::string& name, double value);
+  /// The names `set` knows.
+  static std::vector<std::string> names();
+  /// Reads a numeric gain by name (as `set`).
+  double get(const std::string& name) const;
 };
 
 enum class SteeringMode : std::uint8_t {
@@ -105,7 +142,10 @@ struct SteeringStatus {
   long flips = 0;                 ///< turns at elevation started
   long gave_up = 0;               ///< turns at elevation ended by max_turn_time
   bool imu_stale = false, fix_stale = false, slider_saturated = false;
-  double crab = 0.0;  ///< course minus head-axis azimuth, as learnt [rad]
+  double crab = 0.0;  ///< course minus head-axis azimuth, as learnt (or set by the offset) [rad]
+  bool pitching = false;      ///< the slider is changing the elevation
+  double neutral = 0.0;       ///< the slider position estimated to give no couple [m]
+  double steer_offset = 0.0;  ///< the steering offset from it [m]
   const char* message = "waiting for the first IMU sample";  ///< static text
 };
 
@@ -133,6 +173,9 @@ class MassTransformerController : public ControllerCore {
   void estimate(const ControllerInputs& in, double dt);
   void guide(double time);
   void learnCrab(const Vec3& fix, double time);
+  void learnNeutral(double measured_crab, double dt);
+  double neutral() const { return calibration_.park_position + slider_integral_; }
+  double offsetCrab() const;  ///< the crab the lagged slider offset gives [rad]
   void setCrab(double crab);  ///< within +-max_crab
   double motorCommand(double time);
   bool turnPossible(int side) const;
@@ -164,7 +207,14 @@ class MassTransformerController : public ControllerCore {
   double elevation_ = 0.0;  ///< filtered accelerometer elevation of travel
   double roll_ = 0.0, shaft_ = 0.0;
   Vec3 wanted_ = Vec3::UnitX();   ///< unit direction to the waypoint
-  double slider_integral_ = 0.0;  ///< [m] from the park position
+  double slider_integral_ = 0.0;  ///< [m]: the neutral estimate minus the park position
+  double slider_lag_ = 0.0;       ///< the slider command as the course follows it [m]
+  double model_crab_ = 0.0;       ///< the offset's crab, filtered like the camera's course [rad]
+  Vec3 course_axis_ = Vec3::UnitX();  ///< the head axis, filtered like the camera's course
+  double learn_after_ = 0.0;          ///< no neutral learning before this time [s]
+  double pitching_since_ = 0.0;       ///< the elevation loop took the slider then [s]
+  double closest_ = INFINITY;         ///< estimated closest approach to the waypoint [m]
+  double turn_side_ = 0.0;            ///< side of the last steering offset (+1 left, -1 right)
   double cycle_start_ = 0.0, next_cycle_allowed_ = 0.0;
 };
 

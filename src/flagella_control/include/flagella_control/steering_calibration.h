@@ -62,6 +62,10 @@ struct SteeringCalibration {
   /// with the head horizontal [rad/s per m] (positive: moving the slider toward +t^0, to the
   /// tails, raises the nose).
   double pitch_rate_per_slider = 0.0;
+  /// Crab angle per metre of slider travel from the park position, cruising level: the course
+  /// over ground minus the head axis's azimuth (positive: course left of the axis) [rad/m].
+  /// Micrometres of COM-COV offset turn the course by degrees (docs/model.md 7.4).
+  double crab_per_slider = 0.0;
   double park_position = 0.0;  ///< slider position with no COM-COV couple (nominal l_0) [m]
   double slider_min = 0.0, slider_max = 0.0;  ///< travel [m]
   std::string source;

@@ -1,7 +1,9 @@
 // Estimates the steering calibration (docs/model.md 7.4) from the core simulator with the
 // helical-robot tools: the buckling threshold (analysis/threshold_search), the cruise speed, the
 // deflection of each buckle schedule and its phase law (a run of pulses started at different
-// flagellum phases), and the pitch rate per slider metre (a slider step with the head horizontal).
+// flagellum phases), the pitch rate per slider metre (a slider step with the head horizontal) and
+// the crab angle per slider metre (two runs with the slider parked a few micrometres to either
+// side of the park position).
 #pragma once
 
 #include <functional>
@@ -17,18 +19,21 @@ struct SteeringCalibrationOptions {
   double threshold_rpm = 0.0;   ///< omega_b if known [rpm]; 0: search it
   double threshold_run = 20.0;  ///< duration of each threshold run [s]
   flagella::ThresholdSearchOptions search{8.0, 32.0, 0.1, 200.0, 1.0, 20};
-  double cruise_fraction = 0.7;  ///< omega_3 = fraction x omega_b
-  double pulse_factor = 2.0;     ///< omega_2 = factor x omega_b
-  double pulse_duration = 2.0;   ///< [s]
-  double relax_duration = 12.0;  ///< relax schedule: omega_1 = 0 after the pulse [s]
-  double lead_duration = 2.0;    ///< three_level: omega_1 = 0 before the pulse [s]
-  int pulses = 8;                ///< per schedule
-  double settle_time = 15.0;     ///< before any measurement [s]
-  double window = 10.7;          ///< mean direction of travel over this (about a head turn) [s]
-  double after_cycle = 5.0;      ///< from a cycle's end to its after-window [s]
-  double cruise_measure = 32.0;  ///< cruise speed: net displacement over this [s]
-  double slider_step = 2e-3;     ///< pitch-rate run: slider step from the park position [m]
-  double pitch_window = 4.0;     ///< pitch-rate run: fitted span after the step [s]
+  double cruise_fraction = 0.55;  ///< omega_3 = fraction x omega_b (0.7: slow buckling)
+  double pulse_factor = 2.0;      ///< omega_2 = factor x omega_b
+  double pulse_duration = 2.0;    ///< [s]
+  double relax_duration = 12.0;   ///< relax schedule: omega_1 = 0 after the pulse [s]
+  double lead_duration = 2.0;     ///< three_level: omega_1 = 0 before the pulse [s]
+  int pulses = 8;                 ///< per schedule
+  double settle_time = 15.0;      ///< before any measurement [s]
+  double window = 10.7;           ///< mean direction of travel over this (about a head turn) [s]
+  double after_cycle = 5.0;       ///< from a cycle's end to its after-window [s]
+  double cruise_measure = 32.0;   ///< cruise speed: net displacement over this [s]
+  double slider_step = 2e-3;      ///< pitch-rate run: slider step from the park position [m]
+  double pitch_window = 4.0;      ///< pitch-rate run: fitted span after the step [s]
+  double crab_step = 1e-5;        ///< crab runs: slider offsets +-this from the park position [m]
+  double crab_settle = 30.0;      ///< crab runs: before the measurement [s]
+  double crab_measure = 60.0;     ///< crab runs: course and axis over this [s]
   /// Throws std::invalid_argument naming the field and its range.
   void validate() const;
 };
@@ -52,6 +57,11 @@ void fitPhaseLaw(const std::vector<PulseObservation>& pulses, BuckleSchedule& sc
 SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
                                       const SteeringCalibrationOptions& options,
                                       const std::function<void(const std::string&)>& progress = {});
+
+/// Crab angle (course over ground minus the head axis's azimuth, positive left) of a level
+/// cruise with the slider held at `slider` [m] from `settle` to `settle + measure` [s] [rad].
+double measureCrab(const flagella::SimulationConfig& config, double cruise_omega, double slider,
+                   double settle, double measure);
 
 /// Pulses of one schedule in one run (settle, then `options.pulses` cycles), for calibration.
 std::vector<PulseObservation> observePulses(const flagella::SimulationConfig& config,

@@ -38,6 +38,9 @@ struct SteeringSample {
   Vec3 estimated_forward = Vec3::UnitX();  ///< the controller's direction of travel
   double motor = 0.0, slider = 0.0;        ///< applied motor rate [rad/s], slider position [m]
   double azimuth_error = 0.0, elevation = 0.0, target_elevation = 0.0;  ///< status [rad]
+  double crab = 0.0;                         ///< status: course minus axis azimuth [rad]
+  double neutral = 0.0, steer_offset = 0.0;  ///< status: slider neutral, offset [m]
+  int waypoint = 0;                          ///< status: the waypoint approached
   SteeringMode mode = SteeringMode::Waiting;
 };
 
