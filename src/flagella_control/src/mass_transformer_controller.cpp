@@ -297,7 +297,6 @@ void MassTransformerController::learnCrab(const Vec3& fix, double time) {
     const bool cruising = !status_.flipping && time >= holdoff_until_ &&
                           std::abs(elevation_) < gains_.max_elevation + gains_.top_margin;
     const bool moving = horizontal.norm() > gains_.min_course_speed * calibration_.cruise_speed;
-    const double crab = wrapAngle(azimuthOf(horizontal) - azimuthOf(direction_));
     if (gains_.steer_by_offset) {
       // The head axis and the offset's crab, filtered as the course is, to compare with it
       // (a turning axis would otherwise show as crab).
@@ -307,6 +306,7 @@ void MassTransformerController::learnCrab(const Vec3& fix, double time) {
       const double measured = wrapAngle(azimuthOf(horizontal) - azimuthOf(course_axis_));
       if (cruising && moving && time >= learn_after_) learnNeutral(measured, dt);
     } else if (cruising && moving) {
+      const double crab = wrapAngle(azimuthOf(horizontal) - azimuthOf(direction_));
       setCrab(status_.crab + blend(dt, gains_.crab_filter_time) * wrapAngle(crab - status_.crab));
     }
   }
@@ -355,7 +355,7 @@ void MassTransformerController::guide(double time) {
   // buckle cycles cannot turn to), not while pitching back from the last one.
   const double abs_error = std::abs(status_.azimuth_error);
   const int side = status_.azimuth_error > 0.0 ? 1 : -1;
-  status_.turn_possible = turnPossible(side);
+  status_.turn_possible = turnPossible(0.0, side);
   if (!status_.flipping && time >= holdoff_until_ &&
       (abs_error > gains_.large_turn ||
        (!status_.turn_possible && abs_error > gains_.blocked_turn))) {
@@ -380,8 +380,8 @@ void MassTransformerController::guide(double time) {
   status_.target_elevation = status_.flipping ? flip_sign_ * gains_.flip_elevation : leg_elevation;
 }
 
-bool MassTransformerController::turnPossible(int side) const {
-  return schedule_->bestTurn(side) > gains_.min_turn_share * schedule_->deflection;
+bool MassTransformerController::turnPossible(double up, double left) const {
+  return schedule_->bestTurn(up, left) > gains_.min_turn_share * schedule_->deflection;
 }
 
 double MassTransformerController::motorCommand(double time) {
@@ -406,11 +406,9 @@ double MassTransformerController::motorCommand(double time) {
     // Start when this phase turns toward the error within the window of the best phase.
     double up = 0.0, left = 0.0;
     schedule_->predictedTurn(roll_, shaft_, up, left);
-    const double bias = schedule_->bias_up * du + schedule_->bias_left * dl;
-    const bool possible =
-        bias + schedule_->deflection > gains_.min_turn_share * schedule_->deflection;
-    const double threshold = bias + schedule_->deflection * std::cos(gains_.phase_window);
-    if (possible && up * du + left * dl >= threshold) {
+    const double threshold =
+        schedule_->bestTurn(du, dl) - schedule_->deflection * (1.0 - std::cos(gains_.phase_window));
+    if (turnPossible(du, dl) && up * du + left * dl >= threshold) {
       status_.in_cycle = true;
       ++status_.cycles;
       cycle_start_ = time;
@@ -436,22 +434,31 @@ double MassTransformerController::sliderCommand(double dt) {
     learn_after_ = last_time_ + gains_.crab_lag_time + gains_.course_filter_time;
   status_.neutral = neutral();
   status_.steer_offset = 0.0;
-  if (gains_.steer_by_offset && !status_.pitching) {
-    // Steering: the offset whose crab points the course at the waypoint (straight on while the
-    // start frame's course is measured).
-    double wanted_crab =
-        course_pending_ ? 0.0 : wrapAngle(azimuthOf(wanted_) - azimuthOf(direction_));
-    // A waypoint behind: keep turning to the side already chosen (the error's sign flips as
-    // the waypoint passes behind, and the turn would stall between the two).
-    if (std::abs(wanted_crab) > M_PI / 2 && turn_side_ != 0.0 && wanted_crab * turn_side_ < 0.0)
-      wanted_crab += turn_side_ * 2.0 * M_PI;
-    turn_side_ = wanted_crab > 0.0 ? 1.0 : (wanted_crab < 0.0 ? -1.0 : 0.0);
-    status_.steer_offset = std::clamp(wanted_crab / calibration_.crab_per_slider,
-                                      -gains_.max_steer_offset, gains_.max_steer_offset);
-    const double command = neutral() + status_.steer_offset;
-    status_.slider_saturated = command > hi || command < lo;
-    return std::clamp(command, lo, hi);
-  }
+  double offset = 0.0;
+  if (gains_.steer_by_offset && !status_.pitching)
+    offset = status_.steer_offset = steerOffset();
+  else
+    offset = pitchOffset(error, dt, lo, hi);
+  const double command = neutral() + offset;
+  status_.slider_saturated = command > hi || command < lo;
+  return std::clamp(command, lo, hi);
+}
+
+double MassTransformerController::steerOffset() {
+  // The offset whose crab points the course at the waypoint (straight on while the start
+  // frame's course is measured).
+  double wanted_crab =
+      course_pending_ ? 0.0 : wrapAngle(azimuthOf(wanted_) - azimuthOf(direction_));
+  // A waypoint behind: keep turning to the side already chosen (the error's sign flips as the
+  // waypoint passes behind, and the turn would stall between the two).
+  if (std::abs(wanted_crab) > M_PI / 2 && turn_side_ != 0.0 && wanted_crab * turn_side_ < 0.0)
+    wanted_crab += turn_side_ * 2.0 * M_PI;
+  turn_side_ = wanted_crab > 0.0 ? 1.0 : (wanted_crab < 0.0 ? -1.0 : 0.0);
+  return std::clamp(wanted_crab / calibration_.crab_per_slider, -gains_.max_steer_offset,
+                    gains_.max_steer_offset);
+}
+
+double MassTransformerController::pitchOffset(double error, double dt, double lo, double hi) {
   const double k = calibration_.pitch_rate_per_slider *
                    std::max(std::cos(elevation_), kMinCosElevation);  // [rad/s per m]
   // [m]; no more than the offset that pitches at max_pitch_rate.
@@ -462,7 +469,7 @@ double MassTransformerController::sliderCommand(double dt) {
   if (gains_.steer_by_offset && std::abs(proportional) < gains_.min_pitch_offset)
     proportional = std::copysign(std::min(gains_.min_pitch_offset, limit), error);
   const double increment = proportional * dt / gains_.tilt_integral_time;
-  const double unclamped = calibration_.park_position + proportional + slider_integral_;
+  const double unclamped = neutral() + proportional;
   // Anti-windup: integrate only while the output is inside the travel or the step moves it in.
   // With offset steering the neutral is learnt from the course instead: the pitching offsets
   // are hundreds of micrometres, and a few seconds of them would move it by tens. Only a loop
@@ -471,9 +478,7 @@ double MassTransformerController::sliderCommand(double dt) {
       !gains_.steer_by_offset || last_time_ - pitching_since_ > gains_.tilt_integral_delay;
   if (integrate && (unclamped < hi || increment < 0.0) && (unclamped > lo || increment > 0.0))
     slider_integral_ += increment;
-  const double command = calibration_.park_position + proportional + slider_integral_;
-  status_.slider_saturated = command > hi || command < lo;
-  return std::clamp(command, lo, hi);
+  return proportional;
 }
 
 ControllerOutputs MassTransformerController::step(const ControllerInputs& in) {

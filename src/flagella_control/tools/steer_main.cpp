@@ -33,18 +33,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     std::vector<std::pair<std::string, double>> errors;
-    for (const std::string& e : errors_text) {
-      const auto eq = e.find('=');
-      if (eq == std::string::npos)
-        throw flagella::ConfigError("--model-error '" + e + "': use key=factor");
-      double factor = 0.0;
-      try {
-        factor = std::stod(e.substr(eq + 1));
-      } catch (const std::exception&) {
-        throw flagella::ConfigError("--model-error '" + e + "': the factor must be a number");
-      }
-      errors.emplace_back(e.substr(0, eq), factor);
-    }
+    for (const std::string& e : errors_text)
+      errors.push_back(flagella::control::cli::assignment(e, "--model-error", "key=factor"));
     const flagella::SimulationConfig config = flagella::loadSimulationConfig(
         inputs.config_path,
         flagella::control::modelErrorOverrides(inputs.config_path, inputs.overrides, errors));

@@ -1,19 +1,44 @@
 // What the steering tools (flagella_steer, flagella_steer_robustness) share on their command
-// line: the robot config, the waypoint mission, the calibration, config overrides and the buckle
-// schedule, and loading the mission, calibration and gains from them.
+// line: the robot config, the waypoint mission, the calibration, config overrides, the buckle
+// schedule and controller gains, loading the mission, calibration and gains from them, and the
+// parsing of name=number arguments (--gain, --model-error).
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "flagella_control/mass_transformer_controller.h"
 #include "flagella_control/steering_calibration.h"
 #include "flagella_control/waypoint_mission.h"
+#include "flagella_sim/core/parameter_set.h"
 
 namespace flagella::control::cli {
+
+/// Splits an `option` argument `name=number` (`form` names the two parts for the message).
+/// Throws flagella::ConfigError for a missing name or `=`, or a value that is not one finite
+/// number.
+inline std::pair<std::string, double> assignment(const std::string& text, const char* option,
+                                                 const char* form) {
+  const std::size_t eq = text.find('=');
+  const std::string quoted = std::string(option) + " '" + text + "'";
+  if (eq == std::string::npos || eq == 0)
+    throw flagella::ConfigError(quoted + ": expected " + form);
+  const std::string value = text.substr(eq + 1);
+  std::size_t used = 0;
+  double number = 0.0;
+  try {
+    number = std::stod(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != value.size() || !std::isfinite(number))
+    throw flagella::ConfigError(quoted + ": the value is not a finite number");
+  return {text.substr(0, eq), number};
+}
 
 struct SteeringInputs {
   std::string config_path, waypoints_path, calibration_path;
@@ -47,20 +72,8 @@ struct SteeringInputs {
     SteeringGains g;
     g.schedule = scheduleFromName(schedule);
     for (const std::string& setting : gain_settings) {
-      const std::size_t eq = setting.find('=');
-      if (eq == std::string::npos || eq == 0)
-        throw std::invalid_argument("--gain '" + setting + "': expected name=value");
-      const std::string value = setting.substr(eq + 1);
-      std::size_t used = 0;
-      double number = 0.0;
-      try {
-        number = std::stod(value, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used == 0 || used != value.size() || !std::isfinite(number))
-        throw std::invalid_argument("--gain '" + setting + "': the value is not a finite number");
-      g.set(setting.substr(0, eq), number);
+      const auto [name, value] = assignment(setting, "--gain", "name=value");
+      g.set(name, value);
     }
     g.validate();
     return g;

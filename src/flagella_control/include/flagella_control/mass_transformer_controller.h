@@ -178,8 +178,12 @@ class MassTransformerController : public ControllerCore {
   double offsetCrab() const;  ///< the crab the lagged slider offset gives [rad]
   void setCrab(double crab);  ///< within +-max_crab
   double motorCommand(double time);
-  bool turnPossible(int side) const;
+  /// A buckle cycle can turn along the unit direction (up, left) (min_turn_share).
+  bool turnPossible(double up, double left) const;
   double sliderCommand(double dt);
+  double steerOffset();  ///< steering offset from the neutral [m]
+  /// Elevation loop's offset from the neutral [m] (its integral moves the neutral).
+  double pitchOffset(double error, double dt, double lo, double hi);
   ControllerOutputs output(double motor, double slider, ControllerMode mode) const;
 
   WaypointMission mission_;

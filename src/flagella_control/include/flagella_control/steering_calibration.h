@@ -48,9 +48,11 @@ struct BuckleSchedule {
   double direction(double roll, double shaft) const;
   /// The turn (up, left) [rad] of a cycle started at this roll and shaft angle.
   void predictedTurn(double roll, double shaft, double& up, double& left) const;
-  /// The largest turn to the left (side +1) or right (side -1) one cycle can give [rad];
-  /// <= 0 when buckling cannot turn that way.
-  double bestTurn(int side) const { return side * bias_left + deflection; }
+  /// The largest turn along the unit direction (up, left) of the plane normal to travel one
+  /// cycle can give [rad]; <= 0 when buckling cannot turn that way.
+  double bestTurn(double up, double left) const {
+    return bias_up * up + bias_left * left + deflection;
+  }
 };
 
 struct SteeringCalibration {
