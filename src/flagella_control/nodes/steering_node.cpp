@@ -45,7 +45,7 @@ SteeringNode::SteeringNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   SteeringGains gains;
   const std::string schedule = param<std::string>(pnh, "schedule", "relax");
   gains.schedule = scheduleFromName(schedule);
-  // Every gain of SteeringGains by its name (steer_by_offset: 0 or 1).
+  // Every gain of SteeringGains by its name (steer_by_offset, trim_neutral: 0 or 1).
   for (const std::string& name : SteeringGains::names())
     gains.set(name, param(pnh, name, gains.get(name)));
   controller_ = std::make_unique<MassTransformerController>(

@@ -34,6 +34,7 @@ void SteeringGains::validate() const {
   requireInRange(kContext, "max_turn_time", max_turn_time, 1.0, 3600.0);
   requireInRange(kContext, "descent_holdoff", descent_holdoff, 0.0, 600.0);
   requireInRange(kContext, "tilt_mode_threshold", tilt_mode_threshold, 0.0, M_PI);
+  requireInRange(kContext, "tilt_entry_share", tilt_entry_share, 0.0, 10.0);
   requireInRange(kContext, "max_buckle_error", max_buckle_error, turn_threshold, 2 * M_PI);
   requireInRange(kContext, "phase_window", phase_window, 0.01, M_PI);
   requireInRange(kContext, "min_turn_share", min_turn_share, 0.0, 1.0);
@@ -48,6 +49,7 @@ void SteeringGains::validate() const {
   requireInRange(kContext, "crab_lag_time", crab_lag_time, 0.0, 600.0);
   requireInRange(kContext, "max_steer_offset", max_steer_offset, 0.0, 0.01);
   requireInRange(kContext, "neutral_filter_time", neutral_filter_time, 1.0, 1e5);
+  requireInRange(kContext, "trim_sigmas", trim_sigmas, 0.0, 100.0);
   requireInRange(kContext, "slider_margin", slider_margin, 0.0, 0.01);
   requireInRange(kContext, "fix_gain", fix_gain, 0.0, 1.0);
   requireInRange(kContext, "reach_fraction", reach_fraction, 0.0, 1.0);
@@ -82,6 +84,7 @@ constexpr NamedGain kNamedGains[] = {
     {"max_turn_time", &SteeringGains::max_turn_time},
     {"descent_holdoff", &SteeringGains::descent_holdoff},
     {"tilt_mode_threshold", &SteeringGains::tilt_mode_threshold},
+    {"tilt_entry_share", &SteeringGains::tilt_entry_share},
     {"max_buckle_error", &SteeringGains::max_buckle_error},
     {"phase_window", &SteeringGains::phase_window},
     {"min_turn_share", &SteeringGains::min_turn_share},
@@ -96,6 +99,7 @@ constexpr NamedGain kNamedGains[] = {
     {"crab_lag_time", &SteeringGains::crab_lag_time},
     {"max_steer_offset", &SteeringGains::max_steer_offset},
     {"neutral_filter_time", &SteeringGains::neutral_filter_time},
+    {"trim_sigmas", &SteeringGains::trim_sigmas},
     {"slider_margin", &SteeringGains::slider_margin},
     {"fix_gain", &SteeringGains::fix_gain},
     {"reach_fraction", &SteeringGains::reach_fraction},
@@ -108,22 +112,31 @@ constexpr NamedGain kNamedGains[] = {
     {"fix_timeout", &SteeringGains::fix_timeout},
     {"sensor_fault_timeout", &SteeringGains::sensor_fault_timeout},
 };
-constexpr const char* kSteerByOffset = "steer_by_offset";
+// The on/off gains (0 or 1 by name).
+struct NamedFlag {
+  const char* name;
+  bool SteeringGains::*field;
+};
+constexpr NamedFlag kNamedFlags[] = {
+    {"steer_by_offset", &SteeringGains::steer_by_offset},
+    {"trim_neutral", &SteeringGains::trim_neutral},
+};
 }  // namespace
 
 std::vector<std::string> SteeringGains::names() {
   std::vector<std::string> all;
   for (const NamedGain& g : kNamedGains) all.emplace_back(g.name);
-  all.emplace_back(kSteerByOffset);
+  for (const NamedFlag& f : kNamedFlags) all.emplace_back(f.name);
   return all;
 }
 
 void SteeringGains::set(const std::string& name, double value) {
-  if (name == kSteerByOffset) {
+  for (const NamedFlag& f : kNamedFlags) {
+    if (name != f.name) continue;
     if (value != 0.0 && value != 1.0)
-      throw std::invalid_argument(std::string("steering gains: ") + kSteerByOffset +
+      throw std::invalid_argument(std::string("steering gains: ") + f.name +
                                   " must be 0 or 1, got " + std::to_string(value));
-    steer_by_offset = value == 1.0;
+    this->*f.field = value == 1.0;
     return;
   }
   for (const NamedGain& g : kNamedGains) {
@@ -138,7 +151,8 @@ void SteeringGains::set(const std::string& name, double value) {
 }
 
 double SteeringGains::get(const std::string& name) const {
-  if (name == kSteerByOffset) return steer_by_offset ? 1.0 : 0.0;
+  for (const NamedFlag& f : kNamedFlags)
+    if (name == f.name) return this->*f.field ? 1.0 : 0.0;
   for (const NamedGain& g : kNamedGains)
     if (name == g.name) return this->*g.field;
   throw std::invalid_argument("steering gains: unknown gain '" + name + "'");
@@ -198,6 +212,8 @@ void MassTransformerController::reset() {
   turn_side_ = 0.0;
   course_axis_ = Vec3::UnitX();
   cycle_start_ = next_cycle_allowed_ = 0.0;
+  trim_.reset();
+  within_since_ = 0.0;
 }
 
 ControllerOutputs MassTransformerController::output(double motor, double slider,
@@ -223,7 +239,7 @@ void MassTransformerController::anchor(const ControllerInputs& in) {
     has_fix_ = true;
   }
   anchored_ = true;
-  last_time_ = last_imu_time_ = in.time;
+  last_time_ = last_imu_time_ = within_since_ = in.time;
   next_cycle_allowed_ = in.time + gains_.settle_time;
   if (mission_.frame == PathFrame::Start && mission_.course_time > 0.0) {
     // The start frame's x is the course of a straight, level cruise (waypoint_mission.h).
@@ -278,6 +294,9 @@ void MassTransformerController::estimate(const ControllerInputs& in, double dt) 
     // lags the turn: it follows the lightly filtered axis.
     if (status_.flipping || in.time < holdoff_until_) direction_ = direction_stage_ = lean_;
     roll_ = attitude.roll;
+    if (course_pending_)
+      trim_.add(in.time - last_imu_time_, elevationOf(attitude.forward), last_slider_,
+                calibration_.pitch_rate_per_slider);
     last_imu_time_ = in.time;
     const double a = travelElevationFromAcceleration(in.linear_acceleration, kMinGravityReading);
     if (std::isfinite(a)) elevation_ += blend(dt, gains_.tilt_filter_time) * (a - elevation_);
@@ -321,6 +340,27 @@ void MassTransformerController::learnNeutral(double measured_crab, double dt) {
   slider_integral_ += blend(dt, gains_.neutral_filter_time) * error / calibration_.crab_per_slider;
 }
 
+void MassTransformerController::trimNeutral() {
+  // The course shows neutral errors in proportion only up to max_crab / |crab_per_slider|
+  // (about 44 um; learnNeutral clamps beyond): a larger error, seen in how the head pitched
+  // during the start frame's straight cruise (neutral_trim.h), is taken at once. Smaller ones
+  // are left to the course, the finer measure (1.3 deg of crab per um against 0.5 deg/min of
+  // pitch; the two neutrals differ by about 6 um on the nominal robot).
+  const double estimate = trim_.neutral();
+  status_.trim_neutral = estimate;
+  if (!gains_.trim_neutral || !std::isfinite(estimate)) return;
+  const double shift = estimate - neutral();
+  const double reach = gains_.max_crab / std::abs(calibration_.crab_per_slider);
+  if (std::abs(shift) <= reach || std::abs(shift) <= gains_.trim_sigmas * trim_.standardError())
+    return;
+  const double lo = calibration_.slider_min + gains_.slider_margin;
+  const double hi = calibration_.slider_max - gains_.slider_margin;
+  slider_integral_ = std::clamp(estimate, lo, hi) - calibration_.park_position;
+  slider_lag_ = neutral();
+  pitching_since_ = last_time_;  // the elevation loop's integral waits again
+  status_.trimmed = true;
+}
+
 double MassTransformerController::offsetCrab() const {
   return calibration_.crab_per_slider * (slider_lag_ - neutral());
 }
@@ -343,6 +383,7 @@ void MassTransformerController::guide(double time) {
     ++status_.waypoint;
     ++status_.reached;
     closest_ = INFINITY;
+    turn_side_ = 0.0;  // the next waypoint's side is its own
   }
   if (status_.waypoint >= count) return;
   const Vec3 to_go = world_points_[status_.waypoint] - position_;
@@ -423,8 +464,13 @@ double MassTransformerController::sliderCommand(double dt) {
   const double hi = calibration_.slider_max - gains_.slider_margin;
   if (status_.imu_stale) return last_slider_;  // no tilt: hold
   const double error = status_.target_elevation - elevation_;
-  // The elevation loop takes the slider beyond tilt_mode_threshold, until tilt_exit_threshold.
-  if ((std::abs(error) > gains_.tilt_mode_threshold || status_.flipping) && !status_.pitching) {
+  // The elevation loop takes the slider once the error has stayed beyond tilt_mode_threshold for
+  // tilt_entry_share of the flagellum's rotation period at cruise (the head's elevation wobbles
+  // with it: shorter excursions are wobble), until it is within tilt_exit_threshold.
+  if (std::abs(error) <= gains_.tilt_mode_threshold) within_since_ = last_time_;
+  const double entry = gains_.tilt_entry_share * 2.0 * M_PI / calibration_.cruise_omega;
+  const bool beyond = last_time_ - within_since_ >= entry && last_time_ > within_since_;
+  if ((beyond || status_.flipping) && !status_.pitching) {
     status_.pitching = true;
     pitching_since_ = last_time_;
   }
@@ -449,11 +495,12 @@ double MassTransformerController::steerOffset() {
   // frame's course is measured).
   double wanted_crab =
       course_pending_ ? 0.0 : wrapAngle(azimuthOf(wanted_) - azimuthOf(direction_));
-  // A waypoint behind: keep turning to the side already chosen (the error's sign flips as the
-  // waypoint passes behind, and the turn would stall between the two).
+  // A waypoint behind: keep turning to the side chosen while it was behind (the error's sign
+  // flips as the waypoint passes behind, and the turn would stall between the two). A waypoint
+  // within 90 deg, or a new one, is turned to the short way.
   if (std::abs(wanted_crab) > M_PI / 2 && turn_side_ != 0.0 && wanted_crab * turn_side_ < 0.0)
     wanted_crab += turn_side_ * 2.0 * M_PI;
-  turn_side_ = wanted_crab > 0.0 ? 1.0 : (wanted_crab < 0.0 ? -1.0 : 0.0);
+  turn_side_ = std::abs(wanted_crab) > M_PI / 2 ? std::copysign(1.0, wanted_crab) : 0.0;
   return std::clamp(wanted_crab / calibration_.crab_per_slider, -gains_.max_steer_offset,
                     gains_.max_steer_offset);
 }
@@ -511,6 +558,7 @@ ControllerOutputs MassTransformerController::step(const ControllerInputs& in) {
     }
     // x along the net displacement (the course), or the head axis if the robot barely moved.
     course_pending_ = false;
+    trimNeutral();
     const Vec3 moved(position_.x() - course_origin_.x(), position_.y() - course_origin_.y(), 0.0);
     const double expected = calibration_.cruise_speed * mission_.course_time;
     const bool moved_enough = moved.norm() > gains_.min_course_speed * expected;

@@ -15,6 +15,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "flagella_control/heading.h"
@@ -195,7 +196,8 @@ TEST(MassTransformerController, ModeFollowsTheHeadingErrorWithoutOffsetSteering)
     fc::MassTransformerController controller(mission({c.waypoint}), calibration(), legacyGains());
     Plant plant = legacyPlant();
     plant.roll_rate = 0.0;
-    run(controller, plant, 0.5);
+    // The elevation loop takes over once the error has lasted half a rotation period (3.0 s).
+    run(controller, plant, 3.5);
     EXPECT_EQ(controller.status().mode, c.mode) << c.what << ": " << controller.status().message;
   }
   fc::MassTransformerController behind(mission({Vec3(-0.5, 0.05, 0.0)}), calibration(),
@@ -475,13 +477,42 @@ TEST(MassTransformerController, OffsetSteeringTurnsEitherWayAndLearnsTheNeutral)
   }
 }
 
+TEST(MassTransformerController, ANewWaypointBehindIsTurnedToTheShortWay) {
+  // The first waypoint lies a little to the right, so the robot last steered right; the next
+  // lies 120 deg to the left of the way it came. Its side is its own: the slider steers left at
+  // once (a negative offset here) instead of keeping the last side the long way round.
+  const Vec3 first(0.04, -0.004, 0.0);
+  const Vec3 second = first + 0.04 * Vec3(std::cos(120 * kDeg), std::sin(120 * kDeg), 0.0);
+  fc::MassTransformerController controller(mission({first, second}, 0.005), calibration());
+  Plant plant;
+  plant.roll_rate = 0.0;
+  bool seen_right = false;
+  for (long k = 0; k < 600 * kRate && controller.status().reached == 0; ++k) {
+    plant.apply(controller.step(plant.sense()));
+    seen_right = seen_right || controller.status().steer_offset > 0.0;
+  }
+  ASSERT_EQ(controller.status().reached, 1) << controller.status().message;
+  EXPECT_TRUE(seen_right) << "the approach steered right";
+  double sum = 0.0;
+  int steps = 0;
+  for (int k = 0; k < 5 * kRate; ++k, ++steps) {
+    plant.apply(controller.step(plant.sense()));
+    if (!controller.status().pitching) sum += controller.status().steer_offset;
+  }
+  EXPECT_LT(sum / steps, -0.5 * controller.gains().max_steer_offset) << "steers left";
+}
+
 TEST(MassTransformerController, OffsetSteeringLeavesTheElevationToTheSliderLoop) {
-  // A climb of 16.7 deg: the elevation loop pitches the robot until within
-  // tilt_exit_threshold, then lets go; the slider returns near the neutral.
+  // A climb of 16.7 deg: once the error has lasted half a rotation period at cruise (3.0 s
+  // here), the elevation loop pitches the robot until within tilt_exit_threshold, then lets go;
+  // the slider returns near the neutral.
   const double target = std::atan2(0.3, 1.0);
   fc::MassTransformerController controller(mission({Vec3(1.0, 0.0, 0.3)}), calibration());
   Plant plant;
   plant.roll_rate = 0.0;
+  run(controller, plant, 2.5);
+  EXPECT_NE(controller.status().mode, fc::SteeringMode::MassTransformer) << "within 3.0 s";
+  EXPECT_FALSE(controller.status().pitching);
   run(controller, plant, 1.0);
   EXPECT_EQ(controller.status().mode, fc::SteeringMode::MassTransformer);
   EXPECT_TRUE(controller.status().pitching);
@@ -493,6 +524,82 @@ TEST(MassTransformerController, OffsetSteeringLeavesTheElevationToTheSliderLoop)
   EXPECT_LE(std::abs(out.slider_position - calibration().park_position),
             controller.gains().max_steer_offset + 2e-5);
   EXPECT_FALSE(controller.status().slider_saturated);
+}
+
+TEST(MassTransformerController, AnElevationSpikeShorterThanTheEntryTimeLeavesTheSliderAlone) {
+  // The head's elevation wobbles with the flagellum's rotation: with tilt_entry_share 0.5 (the
+  // default), an error beyond tilt_mode_threshold for less than half the rotation period
+  // (3.0 s) is not pitched against; one that lasts is. With 0 the spike is.
+  fc::MassTransformerController controller(mission({Vec3(1.0, 0.0, 0.0)}), calibration());
+  Plant plant;
+  plant.roll_rate = 0.0;
+  run(controller, plant, 10.0);
+  ASSERT_FALSE(controller.status().pitching);
+  const double azimuth = fc::azimuthOf(plant.forward);
+  plant.forward = fc::directionFrom(azimuth, 20 * kDeg);  // a 20 deg spike for 2 s
+  bool pitched = false;
+  for (int k = 0; k < 2 * kRate; ++k) {
+    plant.forward = fc::directionFrom(azimuth, 20 * kDeg);
+    plant.apply(controller.step(plant.sense()));
+    pitched = pitched || controller.status().pitching;
+  }
+  plant.forward = fc::directionFrom(azimuth, 0.0);
+  for (int k = 0; k < 5 * kRate; ++k) {
+    plant.apply(controller.step(plant.sense()));
+    pitched = pitched || controller.status().pitching;
+  }
+  EXPECT_FALSE(pitched) << "a 2 s spike";
+  for (int k = 0; k < 5 * kRate && !pitched; ++k) {  // held at 20 deg
+    plant.forward = fc::directionFrom(azimuth, 20 * kDeg);
+    plant.apply(controller.step(plant.sense()));
+    pitched = controller.status().pitching;
+  }
+  EXPECT_TRUE(pitched) << "20 deg held for 5 s";
+
+  fc::SteeringGains gains;
+  gains.tilt_entry_share = 0.0;
+  fc::MassTransformerController at_once(mission({Vec3(1.0, 0.0, 0.0)}), calibration(), gains);
+  Plant other;
+  other.roll_rate = 0.0;
+  run(at_once, other, 10.0);
+  ASSERT_FALSE(at_once.status().pitching);
+  for (int k = 0; k < 1 * kRate; ++k) {
+    other.forward = fc::directionFrom(azimuth, 20 * kDeg);
+    other.apply(at_once.step(other.sense()));
+  }
+  EXPECT_TRUE(at_once.status().pitching) << "tilt_entry_share 0: a 1 s spike is pitched against";
+}
+
+TEST(MassTransformerController, ANeutralFarOffIsTrimmedFromThePitchOfTheStartCruise) {
+  // The true neutral is 250 um (or 20 um) off the calibration's park position; the start
+  // frame's 30 s cruise pitches the robot. Beyond what the course can show (max_crab /
+  // |crab_per_slider| = 40 um here) the trim takes the neutral from that pitch at once; within
+  // it the course's learning is left to do it. With trim_neutral off, nothing is taken.
+  struct Case {
+    double slider_error;
+    bool trim, taken;
+  };
+  for (const Case& c : {Case{250e-6, true, true}, Case{-250e-6, true, true},
+                        Case{20e-6, true, false}, Case{250e-6, false, false}}) {
+    fc::WaypointMission m = mission({Vec3(0.2, 0.0, 0.0)}, 0.005);
+    m.course_time = 30.0;
+    fc::SteeringGains gains;
+    gains.trim_neutral = c.trim;
+    fc::MassTransformerController controller(m, calibration(), gains);
+    Plant plant;
+    plant.slider_error = c.slider_error;
+    plant.roll_rate = 0.0;
+    run(controller, plant, 30.5);
+    const double truth = calibration().park_position - c.slider_error;
+    const std::string what = "slider error " + std::to_string(c.slider_error * 1e6) + " um" +
+                             (c.trim ? "" : ", trim off");
+    ASSERT_NE(controller.status().mode, fc::SteeringMode::Waiting) << what;
+    // The plant pitches as the trim's model says, but its slider travels at 2.5 mm/s to the
+    // commands the trim sees: within 3 um.
+    EXPECT_NEAR(controller.status().trim_neutral, truth, 3e-6) << what;
+    EXPECT_EQ(controller.status().trimmed, c.taken) << what;
+    if (c.taken) EXPECT_NEAR(controller.status().neutral, truth, 3e-6) << what;
+  }
 }
 
 TEST(MassTransformerController, AWaypointPassedWithinTheToleranceCountsAfterTheClosestApproach) {
@@ -548,7 +655,8 @@ TEST(MassTransformerController, InvalidGainsAndMissionsNameTheField) {
   // Gains by name (the node's parameters, --gain): every name reads back what it set.
   fc::SteeringGains named;
   for (const std::string& name : fc::SteeringGains::names()) {
-    const double value = name == "steer_by_offset" ? 0.0 : 0.123;
+    const bool flag = name == "steer_by_offset" || name == "trim_neutral";
+    const double value = flag ? 0.0 : 0.123;
     named.set(name, value);
     EXPECT_EQ(named.get(name), value) << name;
   }
@@ -559,6 +667,7 @@ TEST(MassTransformerController, InvalidGainsAndMissionsNameTheField) {
     EXPECT_NE(std::string(e.what()).find("max_steer_offset"), std::string::npos) << e.what();
   }
   EXPECT_THROW(named.set("steer_by_offset", 0.5), std::invalid_argument);
+  EXPECT_THROW(named.set("trim_neutral", 2.0), std::invalid_argument);
   fc::SteeringCalibration bad = calibration();
   bad.cruise_omega = 2.0;  // above the threshold
   EXPECT_THROW(fc::MassTransformerController(mission({Vec3(1, 0, 0)}), bad), std::invalid_argument);

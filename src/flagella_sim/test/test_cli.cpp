@@ -152,6 +152,41 @@ TEST_F(FlagellaRun, ShortRunWritesTimeseriesAndSummary) {
   EXPECT_GT(jsonNumber(summary, "omega_h_rpm"), 0.0);
 }
 
+TEST_F(FlagellaRun, AStraightSwimmerPrintsNoCircleRadius) {
+  // Three tails at 120 deg swim straight (symmetry): the least-squares circle of a straight path
+  // has a radius of kilometres, which the summary does not print as a radius.
+  const TempDir out;
+  const CommandResult r = runTool("run " + design1_ + " --n-tails 3 --duration 2 --out " +
+                                  shellQuote(out.path().string()) + " --quiet");
+  ASSERT_EQ(r.exit_code, kExitOk) << r.output;
+  EXPECT_TRUE(contains(r.output, "circle radius = n/a (path nearly straight")) << r.output;
+}
+
+TEST_F(FlagellaRun, ARunIntoTheSameFolderLeavesNoStaleFile) {
+  // A run with --nodes, then one without into the same folder: the second says it replaces the
+  // first and leaves no nodes.csv of the first behind.
+  const TempDir out;
+  const std::string args =
+      "run " + design1_ + " --duration 0.2 --out " + shellQuote(out.path().string()) + " --quiet";
+  ASSERT_EQ(runTool(args + " --nodes").exit_code, kExitOk);
+  ASSERT_TRUE(fs::exists(out.path() / "nodes.csv"));
+  const CommandResult second = runTool(args);
+  ASSERT_EQ(second.exit_code, kExitOk) << second.output;
+  EXPECT_TRUE(contains(second.output, "replacing the previous run")) << second.output;
+  EXPECT_FALSE(fs::exists(out.path() / "nodes.csv"));
+  EXPECT_TRUE(fs::exists(out.path() / "timeseries.csv"));
+  EXPECT_TRUE(fs::exists(out.path() / "summary.json"));
+}
+
+TEST_F(FlagellaRun, AStepLongerThanTheOutputIntervalNamesTheStep) {
+  // --dt 1 on a config whose output_interval is 0.1 s: the message names dt, which was set.
+  const TempDir out;
+  const CommandResult r = runTool("run " + design1_ + " --dt 1 --duration 1 --out " +
+                                  shellQuote(out.path().string()) + " --quiet");
+  EXPECT_EQ(r.exit_code, kExitConfigError) << r.output;
+  EXPECT_TRUE(contains(r.output, "must be at least simulation.dt (1 s)")) << r.output;
+}
+
 TEST_F(FlagellaRun, BadConfigExitsTwoNamingTheField) {
   const TempDir dir;
   const std::string config = dir.write("bad.yaml",

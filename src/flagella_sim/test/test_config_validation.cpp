@@ -124,6 +124,20 @@ TEST(ShippedConfigs, EveryConfigLoadsAndBuildsASimulation) {
   EXPECT_GE(count, kMinShippedConfigs);
 }
 
+TEST(ConfigValidation, AnOutputIntervalBelowTheStepNamesBothFields) {
+  // `flagella_run --dt 1` on a config with output_interval 0.1: the message names the step too,
+  // not only a range for output_interval that the user never set.
+  const TempDir dir;
+  ConfigSections s;
+  s.simulation = "simulation:\n  dt: 0.5\n  duration: 1\n  output_interval: 0.1\n";
+  const std::string message = loadError(dir.write("short.yaml", s.text()));
+  EXPECT_TRUE(contains(message, "output_interval")) << message;
+  EXPECT_TRUE(contains(message, "simulation.dt (0.5 s)")) << message;
+  EXPECT_TRUE(contains(message, "must be at least")) << message;
+  s.simulation = "simulation:\n  dt: 0.1\n  duration: 1\n  output_interval: 0.1\n";
+  EXPECT_NO_THROW(loadSimulationConfig(dir.write("equal.yaml", s.text())));
+}
+
 TEST(ConfigBaseline, SmallConfigLoadsWithItsValues) {
   const TempDir dir;
   const SimulationConfig c = loadSimulationConfig(dir.write("ok.yaml", ConfigSections().text()));

@@ -65,23 +65,37 @@ std::string robotLabel(const SimulationConfig& c) {
   return buf;
 }
 
+// The circle radius, or why there is none: a path that turned by less than kMinCircleTurn over
+// the steady window is nearly straight, and a fitted radius of kilometres says nothing.
+std::string circleText(const SummaryMetrics& m) {
+  constexpr double kMinCircleTurn = 0.1;  // [rad], 5.7 deg
+  const double turned = std::abs(m.yaw_rate) * (m.window_end - m.window_start);
+  if (!m.circle_valid) return "n/a";
+  if (turned < kMinCircleTurn) {
+    char buf[128];
+    std::snprintf(buf, sizeof(buf), "n/a (path nearly straight: turned %.2f deg in the window)",
+                  units::radToDeg(turned));
+    return buf;
+  }
+  return std::to_string(units::metresToMm(m.circle_radius)) + " mm";
+}
+
 void printSummary(const SimulationConfig& c, const SummaryMetrics& m, std::ostream& out) {
   char buf[1024];
-  std::snprintf(
-      buf, sizeof(buf),
-      "summary (%s, %s, omega_T = %.2f rpm, steady window %.1f-%.1f s)\n"
-      "  omega_h = %.4f rpm (%.5f rad/s)\n"
-      "  omega_t = %.4f rpm (%.5f rad/s)\n"
-      "  v       = %.5f mm/s (forward, along the initial head axis)\n"
-      "  yaw rate = %.5f rad/s, circle radius = %s\n"
-      "  efficiency = %s\n"
-      "  Newton iterations = %ld, subdivided steps = %ld\n",
-      c.source.c_str(), robotLabel(c).c_str(), units::radPerSecToRpm(c.motor.omega), m.window_start,
-      m.window_end, units::radPerSecToRpm(m.omega_h), m.omega_h, units::radPerSecToRpm(m.omega_t),
-      m.omega_t, units::metresToMm(m.speed), m.yaw_rate,
-      m.circle_valid ? (std::to_string(units::metresToMm(m.circle_radius)) + " mm").c_str() : "n/a",
-      m.efficiency_valid ? std::to_string(m.efficiency).c_str() : "n/a", m.newton_iterations,
-      m.subdivided_steps);
+  std::snprintf(buf, sizeof(buf),
+                "summary (%s, %s, omega_T = %.2f rpm, steady window %.1f-%.1f s)\n"
+                "  omega_h = %.4f rpm (%.5f rad/s)\n"
+                "  omega_t = %.4f rpm (%.5f rad/s)\n"
+                "  v       = %.5f mm/s (forward, along the initial head axis)\n"
+                "  yaw rate = %.5f rad/s, circle radius = %s\n"
+                "  efficiency = %s\n"
+                "  Newton iterations = %ld, subdivided steps = %ld\n",
+                c.source.c_str(), robotLabel(c).c_str(), units::radPerSecToRpm(c.motor.omega),
+                m.window_start, m.window_end, units::radPerSecToRpm(m.omega_h), m.omega_h,
+                units::radPerSecToRpm(m.omega_t), m.omega_t, units::metresToMm(m.speed), m.yaw_rate,
+                circleText(m).c_str(),
+                m.efficiency_valid ? std::to_string(m.efficiency).c_str() : "n/a",
+                m.newton_iterations, m.subdivided_steps);
   out << buf;
   if (c.isHelical())  // docs/model.md 8.4.4
     out << "  heading change = " << units::radToDeg(m.heading_change)
@@ -151,9 +165,26 @@ RunResult simulate(const SimulationConfig& config, Simulation& sim, bool quiet) 
 
 }  // namespace
 
+// The files `run` writes into its output folder.
+constexpr const char* kRunOutputs[] = {"timeseries.csv", "nodes.csv", "summary.json"};
+
+// Removes a previous run's outputs from the folder (said on stderr), so none is left stale:
+// nodes.csv of an earlier --nodes run, or everything of a run that this one will not reach.
+void clearPreviousRun(const std::string& out_dir) {
+  std::string removed;
+  for (const char* name : kRunOutputs) {
+    const std::filesystem::path file = std::filesystem::path(out_dir) / name;
+    if (std::filesystem::remove(file)) removed += (removed.empty() ? "" : ", ") + std::string(name);
+  }
+  if (!removed.empty())
+    std::fprintf(stderr, "replacing the previous run in %s/ (removed %s)\n", out_dir.c_str(),
+                 removed.c_str());
+}
+
 int runCommand(const RunOptions& o) {
   const SimulationConfig config = loadSimulationConfig(o.config, o.overrides);
   std::filesystem::create_directories(o.out_dir);
+  clearPreviousRun(o.out_dir);
   Simulation sim(config);
   sim.setRecordNodes(o.nodes);
   if (!o.quiet)

@@ -19,12 +19,15 @@
 //  - cruise: omega_3 below the buckling threshold; with `steer_by_offset` the slider sits at the
 //    offset whose crab points the course at the waypoint (at most `max_steer_offset`; to one side
 //    once the waypoint is behind); the neutral is learnt by comparing the camera's course with
-//    the crab the offset should give (`neutral_filter_time`);
+//    the crab the offset should give (`neutral_filter_time`), and (`trim_neutral`) trimmed
+//    once from the head's pitch during the start frame's straight cruise when further off than
+//    the course can show (neutral_trim.h);
 //  - buckle-to-turn: an error of the direction of travel (azimuth and elevation) between
 //    `turn_threshold` and `max_buckle_error`: buckle cycles (schedule relax or three_level), each
 //    started when the flagellum's phase points the calibrated turn of the cycle (a constant part
 //    plus a part set by the phase) along the error, then a settling time before the next;
-//  - mass-transformer: the elevation error beyond `tilt_mode_threshold`, until it is within
+//  - mass-transformer: the elevation error beyond `tilt_mode_threshold` for `tilt_entry_share` of
+//    the flagellum's rotation period, until it is within
 //    `tilt_exit_threshold`: PI on the accelerometer's elevation, gain scheduled by the calibrated
 //    pitch rate per slider metre and cos(elevation), anti-windup at the travel limits (with
 //    `steer_by_offset`: at least `min_pitch_offset`, and the integral only after
@@ -45,6 +48,7 @@
 
 #include "flagella_control/controller_core.h"
 #include "flagella_control/head_attitude.h"
+#include "flagella_control/neutral_trim.h"
 #include "flagella_control/steering_calibration.h"
 #include "flagella_control/waypoint_mission.h"
 
@@ -72,7 +76,10 @@ struct SteeringGains {
   double max_turn_time = 60.0;        ///< longest stay at elevation per pitch-up [s]
   double descent_holdoff = 25.0;      ///< after pitching back: no new turn at elevation [s]
   double tilt_mode_threshold = 0.17;  ///< elevation error reported as mass-transformer mode [rad]
-  double phase_window = 0.35;         ///< a cycle starts within this phase of the best one [rad]
+  /// ... once it has stayed beyond for this share of the flagellum's rotation period at cruise
+  /// (2 pi / cruise_omega, 7.6 s; the head's elevation wobbles with the rotation; 0: at once).
+  double tilt_entry_share = 0.5;
+  double phase_window = 0.35;  ///< a cycle starts within this phase of the best one [rad]
   /// Buckle turns to a side only if the best cycle turns that way by at least this share of the
   /// calibrated phase-dependent deflection (else the constant part wins: no turn that way).
   double min_turn_share = 0.25;
@@ -92,8 +99,15 @@ struct SteeringGains {
   double crab_lag_time = 20.0;     ///< the course follows the offset with this lag [s]
   double max_steer_offset = 8e-5;  ///< largest steering offset from the neutral [m]
   double neutral_filter_time = 60.0;  ///< learning the neutral from the course [s]
-  double slider_margin = 2e-4;        ///< keep off the hard stops by this [m]
-  double fix_gain = 0.3;              ///< position: p += gain (fix - p)
+  /// Trim: the neutral from the head's pitch while the start frame's course is measured
+  /// (`course_time`), taken when it differs from the neutral by more than the course can show
+  /// (max_crab / |crab_per_slider|) and by more than trim_sigmas standard errors. With
+  /// tilt_entry_share 0.5: more missions complete with the right model, fewer waypoints reached
+  /// with a wrong one (README, Results).
+  bool trim_neutral = true;
+  double trim_sigmas = 3.0;
+  double slider_margin = 2e-4;  ///< keep off the hard stops by this [m]
+  double fix_gain = 0.3;        ///< position: p += gain (fix - p)
   /// A waypoint is reached within this share of the mission's tolerance, or within the
   /// tolerance once the estimated distance has grown by pass_margin past its minimum.
   double reach_fraction = 0.5;
@@ -146,6 +160,8 @@ struct SteeringStatus {
   bool pitching = false;      ///< the slider is changing the elevation
   double neutral = 0.0;       ///< the slider position estimated to give no couple [m]
   double steer_offset = 0.0;  ///< the steering offset from it [m]
+  double trim_neutral = NAN;  ///< the neutral the start frame's pitch gave (NaN before) [m]
+  bool trimmed = false;       ///< ... and it was taken
   const char* message = "waiting for the first IMU sample";  ///< static text
 };
 
@@ -175,6 +191,7 @@ class MassTransformerController : public ControllerCore {
   void learnCrab(const Vec3& fix, double time);
   void learnNeutral(double measured_crab, double dt);
   double neutral() const { return calibration_.park_position + slider_integral_; }
+  void trimNeutral();  ///< at the end of the start frame's cruise (SteeringGains::trim_neutral)
   double offsetCrab() const;  ///< the crab the lagged slider offset gives [rad]
   void setCrab(double crab);  ///< within +-max_crab
   double motorCommand(double time);
@@ -218,8 +235,11 @@ class MassTransformerController : public ControllerCore {
   double learn_after_ = 0.0;          ///< no neutral learning before this time [s]
   double pitching_since_ = 0.0;       ///< the elevation loop took the slider then [s]
   double closest_ = INFINITY;         ///< estimated closest approach to the waypoint [m]
-  double turn_side_ = 0.0;            ///< side of the last steering offset (+1 left, -1 right)
+  /// Side the steering turns to while the waypoint is behind (+1 left, -1 right, 0 none).
+  double turn_side_ = 0.0;
   double cycle_start_ = 0.0, next_cycle_allowed_ = 0.0;
+  double within_since_ = 0.0;  ///< last time the elevation error was within tilt_mode_threshold
+  NeutralTrim trim_;           ///< the neutral from the pitch of the start frame's cruise
 };
 
 }  // namespace flagella::control

@@ -193,7 +193,11 @@ void parseSlider(FieldReader r, SimulationConfig& c) {
 void parseSimulation(FieldReader r, SimulationConfig& c) {
   c.dt = r.number("dt", 0.01, 1e-7, 1.0, "s");
   c.duration = r.number("duration", 10.0, 0.0, 1e6, "s");
-  c.output_interval = r.number("output_interval", std::max(c.dt, 0.1), c.dt, 1e6, "s");
+  c.output_interval = r.number("output_interval", std::max(c.dt, 0.1), 1e-7, 1e6, "s");
+  if (c.output_interval < c.dt)  // outputs come at whole steps
+    throw ConfigError(r.field("output_interval") + " (" + formatNumber(c.output_interval) +
+                      " s) must be at least " + r.field("dt") + " (" + formatNumber(c.dt) +
+                      " s): outputs come at whole steps; raise it or lower dt");
   c.steady_fraction = r.number("steady_fraction", 0.5, 0.01, 1.0);
   c.buckling_tilt_deg = r.number("buckling_tilt_deg", c.buckling_tilt_deg, 0.0, 90.0, "deg");
   if (c.buckling_tilt_deg <= 0.0 || c.buckling_tilt_deg >= 90.0)
