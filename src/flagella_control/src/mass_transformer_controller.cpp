@@ -353,9 +353,7 @@ void MassTransformerController::trimNeutral() {
   const double reach = gains_.max_crab / std::abs(calibration_.crab_per_slider);
   if (std::abs(shift) <= reach || std::abs(shift) <= gains_.trim_sigmas * trim_.standardError())
     return;
-  const double lo = calibration_.slider_min + gains_.slider_margin;
-  const double hi = calibration_.slider_max - gains_.slider_margin;
-  slider_integral_ = std::clamp(estimate, lo, hi) - calibration_.park_position;
+  slider_integral_ = std::clamp(estimate, sliderLow(), sliderHigh()) - calibration_.park_position;
   slider_lag_ = neutral();
   pitching_since_ = last_time_;  // the elevation loop's integral waits again
   status_.trimmed = true;
@@ -460,8 +458,7 @@ double MassTransformerController::motorCommand(double time) {
 }
 
 double MassTransformerController::sliderCommand(double dt) {
-  const double lo = calibration_.slider_min + gains_.slider_margin;
-  const double hi = calibration_.slider_max - gains_.slider_margin;
+  const double lo = sliderLow(), hi = sliderHigh();
   if (status_.imu_stale) return last_slider_;  // no tilt: hold
   const double error = status_.target_elevation - elevation_;
   // The elevation loop takes the slider once the error has stayed beyond tilt_mode_threshold for

@@ -598,7 +598,9 @@ TEST(MassTransformerController, ANeutralFarOffIsTrimmedFromThePitchOfTheStartCru
     // commands the trim sees: within 3 um.
     EXPECT_NEAR(controller.status().trim_neutral, truth, 3e-6) << what;
     EXPECT_EQ(controller.status().trimmed, c.taken) << what;
-    if (c.taken) EXPECT_NEAR(controller.status().neutral, truth, 3e-6) << what;
+    if (c.taken) {
+      EXPECT_NEAR(controller.status().neutral, truth, 3e-6) << what;
+    }
   }
 }
 

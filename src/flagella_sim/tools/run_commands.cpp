@@ -69,8 +69,8 @@ std::string robotLabel(const SimulationConfig& c) {
 // the steady window is nearly straight, and a fitted radius of kilometres says nothing.
 std::string circleText(const SummaryMetrics& m) {
   constexpr double kMinCircleTurn = 0.1;  // [rad], 5.7 deg
-  const double turned = std::abs(m.yaw_rate) * (m.window_end - m.window_start);
   if (!m.circle_valid) return "n/a";
+  const double turned = std::abs(m.yaw_rate) * (m.window_end - m.window_start);
   if (turned < kMinCircleTurn) {
     char buf[128];
     std::snprintf(buf, sizeof(buf), "n/a (path nearly straight: turned %.2f deg in the window)",
@@ -163,16 +163,16 @@ RunResult simulate(const SimulationConfig& config, Simulation& sim, bool quiet) 
   return r;
 }
 
-}  // namespace
-
 // The files `run` writes into its output folder.
-constexpr const char* kRunOutputs[] = {"timeseries.csv", "nodes.csv", "summary.json"};
+constexpr char kTimeseriesFile[] = "timeseries.csv";
+constexpr char kNodesFile[] = "nodes.csv";
+constexpr char kSummaryFile[] = "summary.json";
 
 // Removes a previous run's outputs from the folder (said on stderr), so none is left stale:
 // nodes.csv of an earlier --nodes run, or everything of a run that this one will not reach.
 void clearPreviousRun(const std::string& out_dir) {
   std::string removed;
-  for (const char* name : kRunOutputs) {
+  for (const char* name : {kTimeseriesFile, kNodesFile, kSummaryFile}) {
     const std::filesystem::path file = std::filesystem::path(out_dir) / name;
     if (std::filesystem::remove(file)) removed += (removed.empty() ? "" : ", ") + std::string(name);
   }
@@ -180,6 +180,8 @@ void clearPreviousRun(const std::string& out_dir) {
     std::fprintf(stderr, "replacing the previous run in %s/ (removed %s)\n", out_dir.c_str(),
                  removed.c_str());
 }
+
+}  // namespace
 
 int runCommand(const RunOptions& o) {
   const SimulationConfig config = loadSimulationConfig(o.config, o.overrides);
@@ -192,9 +194,9 @@ int runCommand(const RunOptions& o) {
                  o.config.c_str(), sim.network().numNodes(), sim.network().ndof(), config.dt,
                  config.duration);
   const RunResult r = simulate(config, sim, o.quiet);
-  writeTrajectoryCsv(o.out_dir + "/timeseries.csv", sim.trajectory());
-  if (o.nodes) writeNodesCsv(o.out_dir + "/nodes.csv", sim.trajectory());
-  writeText(o.out_dir + "/summary.json", summaryJson(config, r.summary, r.wall));
+  writeTrajectoryCsv(o.out_dir + "/" + kTimeseriesFile, sim.trajectory());
+  if (o.nodes) writeNodesCsv(o.out_dir + "/" + kNodesFile, sim.trajectory());
+  writeText(o.out_dir + "/" + kSummaryFile, summaryJson(config, r.summary, r.wall));
   printSummary(config, r.summary, std::cout);
   std::printf("  wall time %.2f s, %.1fx real time; outputs in %s/\n", r.wall,
               r.wall > 0 ? sim.time() / r.wall : 0.0, o.out_dir.c_str());

@@ -191,6 +191,9 @@ class MassTransformerController : public ControllerCore {
   void learnCrab(const Vec3& fix, double time);
   void learnNeutral(double measured_crab, double dt);
   double neutral() const { return calibration_.park_position + slider_integral_; }
+  /// The slider's travel kept slider_margin off the hard stops [m].
+  double sliderLow() const { return calibration_.slider_min + gains_.slider_margin; }
+  double sliderHigh() const { return calibration_.slider_max - gains_.slider_margin; }
   void trimNeutral();  ///< at the end of the start frame's cruise (SteeringGains::trim_neutral)
   double offsetCrab() const;  ///< the crab the lagged slider offset gives [rad]
   void setCrab(double crab);  ///< within +-max_crab

@@ -26,8 +26,6 @@ class NeutralTrim {
     sx_ += x, sy_ += y, sxx_ += x * x, sxy_ += x * y, syy_ += y * y;
   }
   long samples() const { return samples_; }
-  /// C so far [rad/m]: the elevation a one-metre offset would have pitched.
-  double exposure() const { return exposure_; }
   /// The neutral estimate [m] (NaN before three samples).
   double neutral() const {
     const double d = centred(sxx_, sx_, sx_);
