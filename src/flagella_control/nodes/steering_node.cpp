@@ -147,6 +147,15 @@ void SteeringNode::publishStatus(const ros::Time& stamp, const ControllerOutputs
   status.imu_stale = s.imu_stale;
   status.fix_stale = s.fix_stale;
   status.slider_saturated = s.slider_saturated;
+  status.pitching = s.pitching;
+  status.crab = s.crab;
+  status.neutral = s.neutral;
+  status.steer_offset = s.steer_offset;
+  status.trim_neutral = s.trim_neutral;
+  status.trimmed = s.trimmed;
+  status.pitch_neutral = s.pitch_neutral;
+  status.pitch_gain = s.pitch_gain;
+  status.retrims = static_cast<int>(s.retrims);
   status.message = s.message;
   status_pub_.publish(status);
   publishSlider(stamp, out.slider_position);

@@ -25,6 +25,9 @@ void SteeringGains::validate() const {
   requireInRange(kContext, "turn_threshold", turn_threshold, 1e-3, M_PI / 2);
   requireInRange(kContext, "large_turn", large_turn, turn_threshold, M_PI);
   requireInRange(kContext, "blocked_turn", blocked_turn, turn_threshold, large_turn);
+  requireInRange(kContext, "stall_time", stall_time, 0.0, 1e4);
+  requireInRange(kContext, "stall_error", stall_error, 1e-3, M_PI);
+  requireInRange(kContext, "stall_progress", stall_progress, 0.0, M_PI);
   requireInRange(kContext, "flip_elevation", flip_elevation, 0.35, 1.50);
   requireInRange(kContext, "top_margin", top_margin, 0.01, 0.5);
   requireInRange(kContext, "lean_filter_time", lean_filter_time, 0.0, 30.0);
@@ -50,6 +53,9 @@ void SteeringGains::validate() const {
   requireInRange(kContext, "max_steer_offset", max_steer_offset, 0.0, 0.01);
   requireInRange(kContext, "neutral_filter_time", neutral_filter_time, 1.0, 1e5);
   requireInRange(kContext, "trim_sigmas", trim_sigmas, 0.0, 100.0);
+  requireInRange(kContext, "pitch_forgetting_time", pitch_forgetting_time, 1.0, 1e5);
+  requireInRange(kContext, "retrim_threshold", retrim_threshold, 0.0, 0.01);
+  requireInRange(kContext, "retrim_interval", retrim_interval, 0.0, 1e5);
   requireInRange(kContext, "slider_margin", slider_margin, 0.0, 0.01);
   requireInRange(kContext, "fix_gain", fix_gain, 0.0, 1.0);
   requireInRange(kContext, "reach_fraction", reach_fraction, 0.0, 1.0);
@@ -75,6 +81,9 @@ constexpr NamedGain kNamedGains[] = {
     {"turn_threshold", &SteeringGains::turn_threshold},
     {"large_turn", &SteeringGains::large_turn},
     {"blocked_turn", &SteeringGains::blocked_turn},
+    {"stall_time", &SteeringGains::stall_time},
+    {"stall_error", &SteeringGains::stall_error},
+    {"stall_progress", &SteeringGains::stall_progress},
     {"flip_elevation", &SteeringGains::flip_elevation},
     {"top_margin", &SteeringGains::top_margin},
     {"lean_filter_time", &SteeringGains::lean_filter_time},
@@ -100,6 +109,9 @@ constexpr NamedGain kNamedGains[] = {
     {"max_steer_offset", &SteeringGains::max_steer_offset},
     {"neutral_filter_time", &SteeringGains::neutral_filter_time},
     {"trim_sigmas", &SteeringGains::trim_sigmas},
+    {"pitch_forgetting_time", &SteeringGains::pitch_forgetting_time},
+    {"retrim_threshold", &SteeringGains::retrim_threshold},
+    {"retrim_interval", &SteeringGains::retrim_interval},
     {"slider_margin", &SteeringGains::slider_margin},
     {"fix_gain", &SteeringGains::fix_gain},
     {"reach_fraction", &SteeringGains::reach_fraction},
@@ -120,6 +132,7 @@ struct NamedFlag {
 constexpr NamedFlag kNamedFlags[] = {
     {"steer_by_offset", &SteeringGains::steer_by_offset},
     {"trim_neutral", &SteeringGains::trim_neutral},
+    {"retrim_neutral", &SteeringGains::retrim_neutral},
 };
 }  // namespace
 
@@ -184,6 +197,8 @@ MassTransformerController::MassTransformerController(WaypointMission mission,
   calibration_.validate();
   gains_.validate();
   schedule_ = &calibration_.schedule(gains_.schedule);
+  pitch_model_ = PitchModelEstimator(calibration_.pitch_rate_per_slider, calibration_.park_position,
+                                     gains_.pitch_forgetting_time);
   world_points_.resize(mission_.points.size(), Vec3::Zero());
   reset();
 }
@@ -213,7 +228,10 @@ void MassTransformerController::reset() {
   course_axis_ = Vec3::UnitX();
   cycle_start_ = next_cycle_allowed_ = 0.0;
   trim_.reset();
-  within_since_ = 0.0;
+  pitch_model_.reset();
+  last_retrim_ = cycle_up_ = cycle_elevation_ = 0.0;
+  within_since_ = aligned_since_ = 0.0;
+  stall_reference_ = INFINITY;
 }
 
 ControllerOutputs MassTransformerController::output(double motor, double slider,
@@ -239,7 +257,7 @@ void MassTransformerController::anchor(const ControllerInputs& in) {
     has_fix_ = true;
   }
   anchored_ = true;
-  last_time_ = last_imu_time_ = within_since_ = in.time;
+  last_time_ = last_imu_time_ = within_since_ = aligned_since_ = in.time;
   next_cycle_allowed_ = in.time + gains_.settle_time;
   if (mission_.frame == PathFrame::Start && mission_.course_time > 0.0) {
     // The start frame's x is the course of a straight, level cruise (waypoint_mission.h).
@@ -294,9 +312,12 @@ void MassTransformerController::estimate(const ControllerInputs& in, double dt) 
     // lags the turn: it follows the lightly filtered axis.
     if (status_.flipping || in.time < holdoff_until_) direction_ = direction_stage_ = lean_;
     roll_ = attitude.roll;
+    const double head_elevation = elevationOf(attitude.forward);
     if (course_pending_)
-      trim_.add(in.time - last_imu_time_, elevationOf(attitude.forward), last_slider_,
+      trim_.add(in.time - last_imu_time_, head_elevation, last_slider_,
                 calibration_.pitch_rate_per_slider);
+    // Less the calibrated up-turns of the buckle cycles so far: the slider did not pitch those.
+    pitch_model_.add(in.time - last_imu_time_, head_elevation - cycle_elevation_, last_slider_);
     last_imu_time_ = in.time;
     const double a = travelElevationFromAcceleration(in.linear_acceleration, kMinGravityReading);
     if (std::isfinite(a)) elevation_ += blend(dt, gains_.tilt_filter_time) * (a - elevation_);
@@ -359,6 +380,27 @@ void MassTransformerController::trimNeutral() {
   status_.trimmed = true;
 }
 
+void MassTransformerController::retrimNeutral(double time) {
+  // The neutral the mission's pitch gives, with the pitch rate learnt alongside (a model wrong
+  // in it biases the start frame's trim, docs/model.md 7.4), taken when off by more than
+  // retrim_threshold; the course refines it between re-trims.
+  if (time - last_retrim_ < gains_.retrim_interval ||
+      pitch_model_.seconds() < gains_.retrim_interval)
+    return;
+  double alpha = NAN, estimate = NAN, standard_error = NAN;
+  if (!pitch_model_.estimate(alpha, estimate, standard_error)) return;
+  status_.pitch_gain = alpha;
+  status_.pitch_neutral = estimate;
+  const double shift = std::abs(estimate - neutral());
+  if (!gains_.retrim_neutral || shift <= gains_.retrim_threshold ||
+      !(shift > gains_.trim_sigmas * standard_error))
+    return;
+  slider_integral_ = std::clamp(estimate, sliderLow(), sliderHigh()) - calibration_.park_position;
+  pitching_since_ = time;  // the elevation loop's integral waits again
+  last_retrim_ = time;
+  ++status_.retrims;
+}
+
 double MassTransformerController::offsetCrab() const {
   return calibration_.crab_per_slider * (slider_lag_ - neutral());
 }
@@ -395,8 +437,18 @@ void MassTransformerController::guide(double time) {
   const double abs_error = std::abs(status_.azimuth_error);
   const int side = status_.azimuth_error > 0.0 ? 1 : -1;
   status_.turn_possible = turnPossible(0.0, side);
+  // Stalled: the error beyond stall_error and not shrinking by stall_progress for stall_time
+  // (measured from when it went beyond, or last shrank by that much).
+  if (abs_error <= gains_.stall_error || status_.flipping) {
+    aligned_since_ = time;
+    stall_reference_ = INFINITY;
+  } else if (abs_error < stall_reference_ - gains_.stall_progress) {
+    aligned_since_ = time;
+    stall_reference_ = abs_error;
+  }
+  const bool stalled = gains_.stall_time > 0.0 && time - aligned_since_ > gains_.stall_time;
   if (!status_.flipping && time >= holdoff_until_ &&
-      (abs_error > gains_.large_turn ||
+      (abs_error > gains_.large_turn || stalled ||
        (!status_.turn_possible && abs_error > gains_.blocked_turn))) {
     status_.flipping = true;
     ++status_.flips;
@@ -429,6 +481,7 @@ double MassTransformerController::motorCommand(double time) {
     const double s = time - cycle_start_;
     if (s < schedule_->cycleDuration()) return schedule_->omegaAt(s, cruise);
     status_.in_cycle = false;
+    cycle_elevation_ += cycle_up_;  // the pitch model sees the cycle's turn as its own
     next_cycle_allowed_ = time + gains_.settle_time;
   }
   // Buckle cycles turn the direction of travel toward the waypoint, in azimuth and elevation
@@ -451,6 +504,7 @@ double MassTransformerController::motorCommand(double time) {
       status_.in_cycle = true;
       ++status_.cycles;
       cycle_start_ = time;
+      cycle_up_ = up;
       return schedule_->omegaAt(0.0, cruise);
     }
   }
@@ -565,6 +619,7 @@ ControllerOutputs MassTransformerController::step(const ControllerInputs& in) {
     anchorWaypoints(course_origin_, azimuth);
   }
   guide(in.time);
+  retrimNeutral(in.time);
   if (status_.waypoint >= static_cast<int>(world_points_.size())) {
     status_.mode = SteeringMode::Finished;
     status_.message = "all waypoints reached";

@@ -195,6 +195,7 @@ std::string robustnessJson(const RobustnessReport& report, double tolerance) {
     for (std::size_t k = 0; k < r.result.miss.size(); ++k)
       j << (k ? ", " : "") << jsonNumber(r.result.miss[k] * 1e3);
     j << "], \"time_s\": " << jsonNumber(r.result.time)
+      << ", \"wall_s\": " << jsonNumber(r.result.wall_seconds)
       << ", \"halted\": " << (r.result.halted ? "true" : "false") << ", \"error\": \""
       << jsonEscaped(r.error) << "\"}";
   }

@@ -213,18 +213,28 @@ SteeringRunResult runSteering(const flagella::SimulationConfig& config,
     sample.crab = status.crab;
     sample.neutral = status.neutral;
     sample.steer_offset = status.steer_offset;
+    sample.pitch_neutral = status.pitch_neutral;
     sample.waypoint = status.waypoint;
   };
   const auto waypoints = [&]() { return controller.waypoints(); };
   const double tolerance = controller.mission().tolerance;
-  if (!recorded)
-    return runScored(config, session_options, controller, waypoints, tolerance, max_duration,
-                     sample_interval, view);
-  const double rate = session_options.imu.rate > 0.0 ? session_options.imu.rate : 100.0;
-  CommandRecorder recorder(controller, static_cast<std::size_t>(max_duration * rate) + 16);
-  SteeringRunResult result = runScored(config, session_options, recorder, waypoints, tolerance,
-                                       max_duration, sample_interval, view);
-  *recorded = recorder.commands();
+  SteeringRunResult result;
+  if (!recorded) {
+    result = runScored(config, session_options, controller, waypoints, tolerance, max_duration,
+                       sample_interval, view);
+  } else {
+    const double rate = session_options.imu.rate > 0.0 ? session_options.imu.rate : 100.0;
+    CommandRecorder recorder(controller, static_cast<std::size_t>(max_duration * rate) + 16);
+    result = runScored(config, session_options, recorder, waypoints, tolerance, max_duration,
+                       sample_interval, view);
+    *recorded = recorder.commands();
+  }
+  const SteeringStatus& status = controller.status();
+  result.neutral = status.neutral;
+  result.trim_neutral = status.trim_neutral;
+  result.trimmed = status.trimmed;
+  result.pitch_neutral = status.pitch_neutral;
+  result.retrims = status.retrims;
   return result;
 }
 
@@ -255,7 +265,11 @@ std::string steeringResultJson(const SteeringRunResult& r, const std::string& co
   j << "  \"halted\": " << (r.halted ? "true" : "false") << ",\n";
   if (r.halted) j << "  \"halt_reason\": \"" << jsonEscaped(r.halt_reason) << "\",\n";
   j << "  \"time_s\": " << jsonNumber(r.time) << ",\n  \"wall_s\": " << jsonNumber(r.wall_seconds)
-    << ",\n  \"buckle_cycles\": " << r.cycles << ",\n  \"modes\": [";
+    << ",\n  \"buckle_cycles\": " << r.cycles << ",\n  \"neutral_m\": " << jsonNumber(r.neutral)
+    << ",\n  \"trim_neutral_m\": " << jsonNumber(r.trim_neutral)
+    << ",\n  \"trimmed\": " << (r.trimmed ? "true" : "false")
+    << ",\n  \"pitch_neutral_m\": " << jsonNumber(r.pitch_neutral)
+    << ",\n  \"retrims\": " << r.retrims << ",\n  \"modes\": [";
   for (std::size_t i = 0; i < r.modes.size(); ++i)
     j << (i ? ", " : "") << "{\"t\": " << jsonNumber(r.modes[i].first) << ", \"mode\": \""
       << steeringModeName(r.modes[i].second) << "\"}";
@@ -271,7 +285,8 @@ std::string steeringPathCsv(const SteeringRunResult& result) {
   std::ostringstream csv;
   csv.precision(8);
   csv << "time,x,y,z,est_x,est_y,est_z,motor,slider,mode,fx,fy,fz,est_fx,est_fy,est_fz,"
-         "azimuth_error,elevation,target_elevation,crab,neutral,steer_offset,waypoint\n";
+         "azimuth_error,elevation,target_elevation,crab,neutral,steer_offset,waypoint,pitch_"
+         "neutral\n";
   for (const SteeringSample& s : result.samples) {
     csv << s.time << "," << s.position.x() << "," << s.position.y() << "," << s.position.z() << ","
         << s.estimate.x() << "," << s.estimate.y() << "," << s.estimate.z() << "," << s.motor << ","
@@ -279,7 +294,8 @@ std::string steeringPathCsv(const SteeringRunResult& result) {
     for (const Vec3* v : {&s.forward, &s.estimated_forward})
       csv << "," << v->x() << "," << v->y() << "," << v->z();
     csv << "," << s.azimuth_error << "," << s.elevation << "," << s.target_elevation << ","
-        << s.crab << "," << s.neutral << "," << s.steer_offset << "," << s.waypoint << "\n";
+        << s.crab << "," << s.neutral << "," << s.steer_offset << "," << s.waypoint << ","
+        << s.pitch_neutral << "\n";
   }
   return csv.str();
 }

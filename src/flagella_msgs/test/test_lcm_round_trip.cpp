@@ -102,6 +102,12 @@ SteeringStatus anySteeringStatus() {
   m.buckle_cycles = anyInt();
   m.in_cycle = true, m.flipping = false, m.imu_stale = true, m.fix_stale = false;
   m.slider_saturated = true;
+  m.pitching = true;
+  m.crab = anyDouble(), m.neutral = anyDouble(), m.steer_offset = anyDouble();
+  m.trim_neutral = anyDouble();
+  m.trimmed = true;
+  m.pitch_neutral = anyDouble(), m.pitch_gain = anyDouble();
+  m.retrims = anyInt();
   m.message = anyString();
   return m;
 }

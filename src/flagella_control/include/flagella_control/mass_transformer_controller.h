@@ -21,7 +21,9 @@
 //    once the waypoint is behind); the neutral is learnt by comparing the camera's course with
 //    the crab the offset should give (`neutral_filter_time`), and (`trim_neutral`) trimmed
 //    once from the head's pitch during the start frame's straight cruise when further off than
-//    the course can show (neutral_trim.h);
+//    the course can show (neutral_trim.h), and (`retrim_neutral`) re-trimmed from the pitch
+//    over the whole mission, where the pitching offsets also give the pitch rate
+//    (pitch_model_estimator.h);
 //  - buckle-to-turn: an error of the direction of travel (azimuth and elevation) between
 //    `turn_threshold` and `max_buckle_error`: buckle cycles (schedule relax or three_level), each
 //    started when the flagellum's phase points the calibrated turn of the cycle (a constant part
@@ -33,12 +35,13 @@
 //    `steer_by_offset`: at least `min_pitch_offset`, and the integral only after
 //    `tilt_integral_delay` without settling); or a turn at elevation for an azimuth error above
 //    `large_turn` (`blocked_turn` toward a side buckle cycles cannot turn to; pi by default, for
-//    the earlier design without offset steering 0.8): the slider pitches the robot up (down for a
-//    diving leg) to `flip_elevation`, where its azimuth precesses (measured: 2-4 deg/s to the
-//    right for about 40 s), and back down once the direction of travel, carried on at its
-//    measured azimuth rate for `exit_delay`, points within `exit_window` of the wanted azimuth,
-//    or after `max_turn_time`; a turn still missing is taken by the next pitch-up after
-//    `descent_holdoff`.
+//    the earlier design without offset steering 0.8), or for one beyond `stall_error` that has
+//    not shrunk for `stall_time` (the offset does not turn the robot): the slider pitches the
+//    robot up (down for a diving leg) to `flip_elevation`, where its azimuth precesses
+//    (measured: 2-4 deg/s to the right for about 40 s), and back down once the direction of
+//    travel, carried on at its measured azimuth rate for `exit_delay`, points within
+//    `exit_window` of the wanted azimuth, or after `max_turn_time`; a turn still missing is
+//    taken by the next pitch-up after `descent_holdoff`.
 #pragma once
 
 #include <cmath>
@@ -49,6 +52,7 @@
 #include "flagella_control/controller_core.h"
 #include "flagella_control/head_attitude.h"
 #include "flagella_control/neutral_trim.h"
+#include "flagella_control/pitch_model_estimator.h"
 #include "flagella_control/steering_calibration.h"
 #include "flagella_control/waypoint_mission.h"
 
@@ -66,7 +70,13 @@ struct SteeringGains {
   /// Azimuth error that calls for a turn at elevation [rad]: pi (never) by default, since the
   /// slider's offset turns either way; 0.8 suits steering without it (steer_by_offset false).
   double large_turn = M_PI;
-  double blocked_turn = M_PI;         ///< the same toward a side buckle cycles cannot turn to [rad]
+  double blocked_turn = M_PI;  ///< the same toward a side buckle cycles cannot turn to [rad]
+  /// An azimuth error beyond stall_error that has not shrunk by stall_progress within
+  /// stall_time (the slider's offset does not turn the robot, e.g. a model wrong in the crab)
+  /// also starts a turn at elevation (0: never) [s].
+  double stall_time = 90.0;
+  double stall_error = 1.0;           ///< [rad]
+  double stall_progress = 0.2;        ///< [rad]
   double flip_elevation = 1.05;       ///< elevation of that turn (60 deg) [rad]
   double top_margin = 0.17;           ///< within this of flip_elevation the robot is turning
   double lean_filter_time = 1.0;      ///< filter of the head axis while turning at elevation [s]
@@ -106,8 +116,16 @@ struct SteeringGains {
   /// with a wrong one (README, Results).
   bool trim_neutral = true;
   double trim_sigmas = 3.0;
-  double slider_margin = 2e-4;  ///< keep off the hard stops by this [m]
-  double fix_gain = 0.3;        ///< position: p += gain (fix - p)
+  /// Re-trim: the neutral and the pitch rate learnt from the head's pitch over the whole mission
+  /// (pitch_model_estimator.h, forgetting after pitch_forgetting_time); the neutral is set to the
+  /// estimate when they differ by more than retrim_threshold and trim_sigmas standard errors of
+  /// the estimate, at most every retrim_interval.
+  bool retrim_neutral = true;
+  double pitch_forgetting_time = 120.0;  ///< [s]
+  double retrim_threshold = 8e-6;        ///< [m]
+  double retrim_interval = 60.0;         ///< [s]
+  double slider_margin = 2e-4;           ///< keep off the hard stops by this [m]
+  double fix_gain = 0.3;                 ///< position: p += gain (fix - p)
   /// A waypoint is reached within this share of the mission's tolerance, or within the
   /// tolerance once the estimated distance has grown by pass_margin past its minimum.
   double reach_fraction = 0.5;
@@ -157,11 +175,14 @@ struct SteeringStatus {
   long gave_up = 0;               ///< turns at elevation ended by max_turn_time
   bool imu_stale = false, fix_stale = false, slider_saturated = false;
   double crab = 0.0;  ///< course minus head-axis azimuth, as learnt (or set by the offset) [rad]
-  bool pitching = false;      ///< the slider is changing the elevation
-  double neutral = 0.0;       ///< the slider position estimated to give no couple [m]
-  double steer_offset = 0.0;  ///< the steering offset from it [m]
-  double trim_neutral = NAN;  ///< the neutral the start frame's pitch gave (NaN before) [m]
-  bool trimmed = false;       ///< ... and it was taken
+  bool pitching = false;       ///< the slider is changing the elevation
+  double neutral = 0.0;        ///< the slider position estimated to give no couple [m]
+  double steer_offset = 0.0;   ///< the steering offset from it [m]
+  double trim_neutral = NAN;   ///< the neutral the start frame's pitch gave (NaN before) [m]
+  bool trimmed = false;        ///< ... and it was taken
+  double pitch_neutral = NAN;  ///< the neutral the mission's pitch gives (re-trim) [m]
+  double pitch_gain = NAN;     ///< the pitch rate learnt over the calibrated one
+  long retrims = 0;            ///< times the neutral was re-trimmed
   const char* message = "waiting for the first IMU sample";  ///< static text
 };
 
@@ -195,8 +216,9 @@ class MassTransformerController : public ControllerCore {
   double sliderLow() const { return calibration_.slider_min + gains_.slider_margin; }
   double sliderHigh() const { return calibration_.slider_max - gains_.slider_margin; }
   void trimNeutral();  ///< at the end of the start frame's cruise (SteeringGains::trim_neutral)
-  double offsetCrab() const;  ///< the crab the lagged slider offset gives [rad]
-  void setCrab(double crab);  ///< within +-max_crab
+  void retrimNeutral(double time);  ///< from the mission's pitch (SteeringGains::retrim_neutral)
+  double offsetCrab() const;        ///< the crab the lagged slider offset gives [rad]
+  void setCrab(double crab);        ///< within +-max_crab
   double motorCommand(double time);
   /// A buckle cycle can turn along the unit direction (up, left) (min_turn_share).
   bool turnPossible(double up, double left) const;
@@ -241,8 +263,14 @@ class MassTransformerController : public ControllerCore {
   /// Side the steering turns to while the waypoint is behind (+1 left, -1 right, 0 none).
   double turn_side_ = 0.0;
   double cycle_start_ = 0.0, next_cycle_allowed_ = 0.0;
-  double within_since_ = 0.0;  ///< last time the elevation error was within tilt_mode_threshold
-  NeutralTrim trim_;           ///< the neutral from the pitch of the start frame's cruise
+  double within_since_ = 0.0;   ///< last time the elevation error was within tilt_mode_threshold
+  double aligned_since_ = 0.0;  ///< the azimuth error last within stall_error or shrinking [s]
+  double stall_reference_ = INFINITY;  ///< |azimuth error| then [rad]
+  NeutralTrim trim_;                   ///< the neutral from the pitch of the start frame's cruise
+  PitchModelEstimator pitch_model_;    ///< neutral and pitch rate from the mission's pitch
+  double last_retrim_ = 0.0;           ///< [s]
+  double cycle_up_ = 0.0;              ///< calibrated up-turn of the running buckle cycle [rad]
+  double cycle_elevation_ = 0.0;       ///< ... summed over the cycles completed [rad]
 };
 
 }  // namespace flagella::control

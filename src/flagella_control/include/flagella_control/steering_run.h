@@ -4,6 +4,7 @@
 // the true head path: a waypoint is reached when the path comes within the tolerance.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <utility>
 #include <vector>
@@ -40,6 +41,7 @@ struct SteeringSample {
   double azimuth_error = 0.0, elevation = 0.0, target_elevation = 0.0;  ///< status [rad]
   double crab = 0.0;                         ///< status: course minus axis azimuth [rad]
   double neutral = 0.0, steer_offset = 0.0;  ///< status: slider neutral, offset [m]
+  double pitch_neutral = NAN;                ///< status: the neutral the pitch gives [m]
   int waypoint = 0;                          ///< status: the waypoint approached
   SteeringMode mode = SteeringMode::Waiting;
 };
@@ -56,6 +58,12 @@ struct SteeringRunResult {
   bool halted = false;
   std::string halt_reason;  ///< the simulator's message when it halted
   long cycles = 0;
+  /// The controller's slider neutral at the end, and the start frame's pitch trim (NaN when
+  /// none; open-loop replays: NaN) [m].
+  double neutral = NAN, trim_neutral = NAN;
+  bool trimmed = false;
+  double pitch_neutral = NAN;  ///< the neutral the mission's pitch gave at the end [m]
+  long retrims = 0;            ///< times the neutral was re-trimmed from the pitch
   std::vector<std::pair<double, SteeringMode>> modes;  ///< mode changes (time, new mode)
   std::vector<SteeringSample> samples;
   std::vector<Vec3> waypoints;  ///< in the world

@@ -233,6 +233,15 @@ void copySteeringStatusFields(const From& in, To& out) {
   out.imu_stale = in.imu_stale;
   out.fix_stale = in.fix_stale;
   out.slider_saturated = in.slider_saturated;
+  out.pitching = in.pitching;
+  out.crab = in.crab;
+  out.neutral = in.neutral;
+  out.steer_offset = in.steer_offset;
+  out.trim_neutral = in.trim_neutral;
+  out.trimmed = in.trimmed;
+  out.pitch_neutral = in.pitch_neutral;
+  out.pitch_gain = in.pitch_gain;
+  out.retrims = in.retrims;
   out.message = in.message;
 }
 inline flagella_lcm::steering_status_t toLcm(const SteeringStatus& in) {
