@@ -374,10 +374,14 @@ void MassTransformerController::trimNeutral() {
   const double reach = gains_.max_crab / std::abs(calibration_.crab_per_slider);
   if (std::abs(shift) <= reach || std::abs(shift) <= gains_.trim_sigmas * trim_.standardError())
     return;
-  slider_integral_ = std::clamp(estimate, sliderLow(), sliderHigh()) - calibration_.park_position;
+  takeNeutral(estimate);
   slider_lag_ = neutral();
-  pitching_since_ = last_time_;  // the elevation loop's integral waits again
   status_.trimmed = true;
+}
+
+void MassTransformerController::takeNeutral(double estimate) {
+  slider_integral_ = std::clamp(estimate, sliderLow(), sliderHigh()) - calibration_.park_position;
+  pitching_since_ = last_time_;  // the elevation loop's integral waits again
 }
 
 void MassTransformerController::retrimNeutral(double time) {
@@ -395,8 +399,7 @@ void MassTransformerController::retrimNeutral(double time) {
   if (!gains_.retrim_neutral || shift <= gains_.retrim_threshold ||
       !(shift > gains_.trim_sigmas * standard_error))
     return;
-  slider_integral_ = std::clamp(estimate, sliderLow(), sliderHigh()) - calibration_.park_position;
-  pitching_since_ = time;  // the elevation loop's integral waits again
+  takeNeutral(estimate);
   last_retrim_ = time;
   ++status_.retrims;
 }

@@ -217,8 +217,11 @@ class MassTransformerController : public ControllerCore {
   double sliderHigh() const { return calibration_.slider_max - gains_.slider_margin; }
   void trimNeutral();  ///< at the end of the start frame's cruise (SteeringGains::trim_neutral)
   void retrimNeutral(double time);  ///< from the mission's pitch (SteeringGains::retrim_neutral)
-  double offsetCrab() const;        ///< the crab the lagged slider offset gives [rad]
-  void setCrab(double crab);        ///< within +-max_crab
+  /// Sets the neutral to `estimate` within the slider's travel; the elevation loop's integral
+  /// waits again (tilt_integral_delay).
+  void takeNeutral(double estimate);
+  double offsetCrab() const;  ///< the crab the lagged slider offset gives [rad]
+  void setCrab(double crab);  ///< within +-max_crab
   double motorCommand(double time);
   /// A buckle cycle can turn along the unit direction (up, left) (min_turn_share).
   bool turnPossible(double up, double left) const;
