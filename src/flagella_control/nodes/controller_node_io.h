@@ -10,6 +10,7 @@
 #include <string>
 
 #include "flagella_control/controller_core.h"
+#include "flagella_control/pending_fix.h"
 
 namespace flagella::control::node {
 
@@ -46,12 +47,10 @@ inline void imuToInputs(const sensor_msgs::Imu& msg, ControllerInputs& in) {
   for (int k = 0; k < 3; ++k) in.linear_acceleration[k] = values[7 + k];
 }
 
-/// One controller step on `in`, with the latest camera fix (already in `in.position`) on this
-/// step only when `fix_pending`; clears it.
+/// One controller step on `in`, with the pending camera fix if it was taken before the IMU sample.
 inline ControllerOutputs stepWithLatestFix(ControllerCore& controller, ControllerInputs& in,
-                                           bool& fix_pending) {
-  in.position_valid = fix_pending;
-  fix_pending = false;
+                                           PendingFix& fix) {
+  fix.deliverBefore(in);
   const ControllerOutputs out = controller.step(in);
   in.position_valid = false;
   return out;

@@ -6,8 +6,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "controller_node_io.h"
-
 namespace flagella::control::node {
 
 using flagella::control::ControllerMode;
@@ -103,16 +101,14 @@ void PathFollowerNode::onPath(const nav_msgs::Path& msg) {
 }
 
 void PathFollowerNode::onCameraFix(const geometry_msgs::PointStamped& msg) {
-  if (!std::isfinite(msg.point.x) || !std::isfinite(msg.point.y)) return;
-  fix_pending_ = true;
-  inputs_.position[0] = msg.point.x;
-  inputs_.position[1] = msg.point.y;
+  fix_.offer(msg.point.x, msg.point.y, msg.point.z, msg.header.stamp.toSec(),
+             /*with_height=*/false);
 }
 
 void PathFollowerNode::onImu(const sensor_msgs::Imu& msg) {
   if (!controller_) return;
   imuToInputs(msg, inputs_);
-  const ControllerOutputs out = stepWithLatestFix(*controller_, inputs_, fix_pending_);
+  const ControllerOutputs out = stepWithLatestFix(*controller_, inputs_, fix_);
 
   flagella_msgs::MotorCommand command;
   command.header.stamp = msg.header.stamp;  // lockstep: answers the IMU sample of this stamp

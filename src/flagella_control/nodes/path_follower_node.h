@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 
+#include "controller_node_io.h"
 #include "flagella_control/path_controllers.h"
 
 namespace flagella::control::node {
@@ -34,7 +35,7 @@ class PathFollowerNode {
   flagella::control::PathFollowingGains gains_;
   std::unique_ptr<flagella::control::PathControllerBase> controller_;
   flagella::control::ControllerInputs inputs_;
-  bool fix_pending_ = false;
+  PendingFix fix_;
   bool reference_published_ = false;
   bool exit_when_finished_ = false;
   double status_period_ = 0.2;

@@ -9,8 +9,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "controller_node_io.h"
-
 namespace flagella::control::node {
 
 namespace {
@@ -73,17 +71,12 @@ SteeringNode::SteeringNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
 }
 
 void SteeringNode::onCameraFix(const geometry_msgs::PointStamped& msg) {
-  if (!std::isfinite(msg.point.x) || !std::isfinite(msg.point.y) || !std::isfinite(msg.point.z))
-    return;
-  fix_pending_ = true;
-  inputs_.position[0] = msg.point.x;
-  inputs_.position[1] = msg.point.y;
-  inputs_.position[2] = msg.point.z;
+  fix_.offer(msg.point.x, msg.point.y, msg.point.z, msg.header.stamp.toSec(), /*with_height=*/true);
 }
 
 void SteeringNode::onImu(const sensor_msgs::Imu& msg) {
   imuToInputs(msg, inputs_);
-  const ControllerOutputs out = stepWithLatestFix(*controller_, inputs_, fix_pending_);
+  const ControllerOutputs out = stepWithLatestFix(*controller_, inputs_, fix_);
 
   flagella_msgs::SliderCommand slider;
   slider.header.stamp = msg.header.stamp;

@@ -13,6 +13,7 @@
 #include <memory>
 #include <string>
 
+#include "controller_node_io.h"
 #include "flagella_control/mass_transformer_controller.h"
 
 namespace flagella::control::node {
@@ -33,7 +34,7 @@ class SteeringNode {
   std::string world_frame_, head_frame_;
   std::unique_ptr<MassTransformerController> controller_;
   ControllerInputs inputs_;
-  bool fix_pending_ = false;
+  PendingFix fix_;
   bool waypoints_published_ = false;
   bool exit_when_finished_ = false;
   double status_period_ = 0.2, estimate_period_ = 0.5;

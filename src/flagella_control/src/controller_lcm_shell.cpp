@@ -17,10 +17,7 @@ ControllerLcmShell::ControllerLcmShell(lcm::LCM& lcm, ControllerCore& controller
 void ControllerLcmShell::onCameraFix(const lcm::ReceiveBuffer*, const std::string&,
                                      const flagella_lcm::point_stamped_t* msg) {
   ++camera_received_;
-  fix_pending_ = true;
-  fix_position_[0] = msg->point.x;
-  fix_position_[1] = msg->point.y;
-  fix_position_[2] = msg->point.z;
+  fix_.offer(msg->point.x, msg->point.y, msg->point.z, flagella::stampSeconds(msg->header));
 }
 
 void ControllerLcmShell::onImu(const lcm::ReceiveBuffer*, const std::string&,
@@ -38,14 +35,7 @@ void ControllerLcmShell::onImu(const lcm::ReceiveBuffer*, const std::string&,
   inputs_.linear_acceleration[0] = msg->linear_acceleration.x;
   inputs_.linear_acceleration[1] = msg->linear_acceleration.y;
   inputs_.linear_acceleration[2] = msg->linear_acceleration.z;
-  // The latest camera fix, on this step only.
-  inputs_.position_valid = fix_pending_;
-  if (fix_pending_) {
-    inputs_.position[0] = fix_position_[0];
-    inputs_.position[1] = fix_position_[1];
-    inputs_.position[2] = fix_position_[2];
-    fix_pending_ = false;
-  }
+  fix_.deliverBefore(inputs_);  // a fix taken before this sample, on this step only
   last_ = controller_.step(inputs_);
   inputs_.position_valid = false;
   flagella_lcm::motor_command_t command;

@@ -57,6 +57,7 @@ SimNodeOptions nodeOptionsFromParams(const ros::NodeHandle& nh, const ros::NodeH
   pnh.param("wait_for_subscribers", o.wait_for_subscribers, o.wait_for_subscribers);
   o.wait_timeout = rangedParam(pnh, "wait_timeout", o.wait_timeout, 0.0, 1e6, "s");
   pnh.param("lockstep", o.lockstep, o.lockstep);
+  pnh.param("lockstep_slider", o.lockstep_slider, o.lockstep_slider);
   o.lockstep_timeout = rangedParam(pnh, "lockstep_timeout", o.lockstep_timeout, 1e-3,
                                    kMaxLockstepTimeout, "s of wall time");
   o.markers.tail_width =
@@ -130,6 +131,9 @@ void SimNode::onMotorCommand(const flagella_msgs::MotorCommand& msg) {
 }
 
 void SimNode::onSliderCommand(const flagella_msgs::SliderCommand& msg) {
+  if (!slider_seen_ || msg.header.stamp > latest_slider_stamp_)
+    latest_slider_stamp_ = msg.header.stamp;
+  slider_seen_ = true;
   if (session_->commandSlider(msg.position) != flagella::CommandVerdict::Accepted) logRejection();
 }
 
@@ -227,16 +231,20 @@ bool SimNode::waitForSubscribers() {
 
 bool SimNode::lockstepReady() {
   if (!awaiting_command_) return true;
-  if (command_seen_ && latest_command_stamp_ >= awaited_stamp_) {
+  const bool motor_answered = command_seen_ && latest_command_stamp_ >= awaited_stamp_;
+  const bool slider_answered =
+      !options_.lockstep_slider || (slider_seen_ && latest_slider_stamp_ >= awaited_stamp_);
+  if (motor_answered && slider_answered) {
     awaiting_command_ = false;
     return true;
   }
   if ((ros::WallTime::now() - await_wall_start_).toSec() > options_.lockstep_timeout) {
     ++lockstep_timeouts_;
     ROS_WARN(
-        "flagella_sim: lockstep: no motor_command stamped >= %.6f s within %.3f s of wall "
-        "time; stepping on (the command failsafe applies)",
-        awaited_stamp_.toSec(), options_.lockstep_timeout);
+        "flagella_sim: lockstep: no %s stamped >= %.6f s within %.3f s of wall time; stepping "
+        "on (the command failsafe applies)",
+        motor_answered ? "slider_command" : "motor_command", awaited_stamp_.toSec(),
+        options_.lockstep_timeout);
     awaiting_command_ = false;
     return true;
   }

@@ -38,6 +38,9 @@ struct SimNodeOptions {
   /// Software in the loop: after an IMU sample stamped t, hold the next step until a
   /// motor_command stamped >= t has arrived (or lockstep_timeout wall seconds have passed).
   bool lockstep = false;
+  /// Lockstep also waits for a slider_command stamped >= t (a controller that commands the
+  /// slider every step): the step then never depends on which command the network delivers first.
+  bool lockstep_slider = false;
   double lockstep_timeout = 5.0;  ///< [s wall]
   MarkerStyle markers;
 };
@@ -91,8 +94,8 @@ class SimNode {
   bool awaiting_command_ = false;
   ros::Time awaited_stamp_;
   ros::WallTime await_wall_start_;
-  bool command_seen_ = false;
-  ros::Time latest_command_stamp_;
+  bool command_seen_ = false, slider_seen_ = false;
+  ros::Time latest_command_stamp_, latest_slider_stamp_;
   long lockstep_timeouts_ = 0;
   // Logging: rejected commands at most once per kRejectionLogPeriod of wall time, failsafe
   // engage and release once each.

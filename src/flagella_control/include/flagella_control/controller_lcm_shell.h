@@ -1,6 +1,7 @@
 // The controller's end of an LCM link: steps a controller core on every IMU sample and publishes
-// its motor (and slider) command. A camera fix is handed to the controller on the next step only
-// (position_valid), then dropped. The caller owns the LCM instance and delivers its messages.
+// its motor (and slider) command. A camera fix is handed to the controller on the first step
+// after it was taken (pending_fix.h), then dropped. The caller owns the LCM instance and delivers
+// its messages.
 #pragma once
 
 #include <flagella_lcm/imu_t.hpp>
@@ -9,6 +10,7 @@
 #include <string>
 
 #include "flagella_control/controller_core.h"
+#include "flagella_control/pending_fix.h"
 #include "flagella_sim/lcm_io/lcm_messages.h"
 
 namespace flagella::control {
@@ -31,8 +33,7 @@ class ControllerLcmShell {
   flagella::LcmChannels channels_;
   ControllerInputs inputs_;
   ControllerOutputs last_;
-  bool fix_pending_ = false;
-  double fix_position_[3] = {0.0, 0.0, 0.0};  ///< latest camera fix not yet given to the controller
+  PendingFix fix_;  ///< the latest camera fix not yet given to the controller
   long imu_received_ = 0, commands_published_ = 0, camera_received_ = 0;
 };
 
