@@ -1,0 +1,58 @@
+// The small fast case of the steering robustness runs (steering_robustness.h; the full runs are
+// flagella_steer_robustness's): one seeded run on the helical robot with its model wrong by +-20 %
+// in eps, E, C_t, C_r and l_0, on the demo mission's first leg, a climb. The closed loop must reach
+// the waypoint; the open-loop schedule the controller gave on the nominal model with perfect
+// sensors, replayed blind on the same wrong model, must miss it (the wrong model moves the slider's
+// neutral, and the replayed slider positions pitch the robot away).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "flagella_control/steering_robustness.h"
+
+namespace flagella::control {
+namespace {
+
+TEST(SteeringRobustness, OnAWrongModelTheClosedLoopReachesAClimbThatTheNominalScheduleMisses) {
+  RobustnessOptions options;
+  options.config_path = std::string(FLAGELLA_CONFIG_DIR) + "/helical_steering.yaml";
+  options.runs = 1;
+  options.first_seed = 1;
+  options.nominal = false;
+  options.jobs = 2;
+  options.max_duration = 200.0;  // [s]; the demo's runs reach the climb at 65-105 s
+  const SteeringCalibration calibration = loadSteeringCalibration(
+      std::string(FLAGELLA_CONFIG_DIR) + "/calibration/helical_steering.yaml");
+  WaypointMission mission;  // the demo's first leg (config/paths/steering_demo.yaml)
+  mission.points = {Eigen::Vector3d(0.030, -0.008, 0.012)};  // 21 deg up, 15 deg right
+  mission.course_time = 30.0;  // [s] of straight cruise give the start frame's x
+  const RobustnessReport report = runRobustness(options, calibration, mission, SteeringGains{});
+
+  ASSERT_EQ(report.reference.reached, 1) << "the nominal run itself misses the climb";
+  ASSERT_EQ(report.runs.size(), 2u);
+  const RobustnessRun& closed = report.runs[0];
+  const RobustnessRun& open = report.runs[1];
+  ASSERT_EQ(closed.kind, "mismatched closed");
+  ASSERT_EQ(open.kind, "mismatched open");
+  ASSERT_TRUE(closed.error.empty()) << closed.error;
+  ASSERT_TRUE(open.error.empty()) << open.error;
+  // The same wrong model for both, every key off by 20 % one way or the other.
+  EXPECT_EQ(closed.factors, open.factors);
+  ASSERT_EQ(closed.factors.size(), options.keys.size());
+  for (const auto& [key, factor] : closed.factors)
+    EXPECT_NEAR(std::abs(factor - 1.0), options.error, 1e-12) << key;
+  EXPECT_FALSE(closed.result.halted) << closed.result.halt_reason;
+  EXPECT_EQ(closed.result.reached, 1)
+      << "closed loop missed by " << 1e3 * closed.result.max_miss << " mm";
+  EXPECT_EQ(open.result.reached, 0)
+      << "open loop passed within " << 1e3 * open.result.max_miss << " mm";
+  EXPECT_GT(open.result.max_miss, closed.result.max_miss);
+  std::printf("closed loop: miss %.1f mm at %.0f s; open loop: miss %.1f mm (tolerance %.0f mm)\n",
+              1e3 * closed.result.max_miss, closed.result.time, 1e3 * open.result.max_miss,
+              1e3 * mission.tolerance);
+}
+
+}  // namespace
+}  // namespace flagella::control
