@@ -47,13 +47,4 @@ inline void imuToInputs(const sensor_msgs::Imu& msg, ControllerInputs& in) {
   for (int k = 0; k < 3; ++k) in.linear_acceleration[k] = values[7 + k];
 }
 
-/// One controller step on `in`, with the pending camera fix if it was taken before the IMU sample.
-inline ControllerOutputs stepWithLatestFix(ControllerCore& controller, ControllerInputs& in,
-                                           PendingFix& fix) {
-  fix.deliverBefore(in);
-  const ControllerOutputs out = controller.step(in);
-  in.position_valid = false;
-  return out;
-}
-
 }  // namespace flagella::control::node

@@ -35,9 +35,7 @@ void ControllerLcmShell::onImu(const lcm::ReceiveBuffer*, const std::string&,
   inputs_.linear_acceleration[0] = msg->linear_acceleration.x;
   inputs_.linear_acceleration[1] = msg->linear_acceleration.y;
   inputs_.linear_acceleration[2] = msg->linear_acceleration.z;
-  fix_.deliverBefore(inputs_);  // a fix taken before this sample, on this step only
-  last_ = controller_.step(inputs_);
-  inputs_.position_valid = false;
+  last_ = stepWithLatestFix(controller_, inputs_, fix_);  // a fix taken before this sample
   flagella_lcm::motor_command_t command;
   command.header = flagella::lcmHeader(inputs_.time, "");
   command.omega = last_.motor_command;

@@ -124,16 +124,12 @@ void SimNode::publish(ros::Publisher& pub, const M& msg) {
 
 void SimNode::onMotorCommand(const flagella_msgs::MotorCommand& msg) {
   // Any command answers a lockstep wait (a rejected value too: the gate and failsafe handle it).
-  if (!command_seen_ || msg.header.stamp > latest_command_stamp_)
-    latest_command_stamp_ = msg.header.stamp;
-  command_seen_ = true;
+  motor_stamp_.hear(msg.header.stamp);
   if (session_->commandMotor(msg.omega) != flagella::CommandVerdict::Accepted) logRejection();
 }
 
 void SimNode::onSliderCommand(const flagella_msgs::SliderCommand& msg) {
-  if (!slider_seen_ || msg.header.stamp > latest_slider_stamp_)
-    latest_slider_stamp_ = msg.header.stamp;
-  slider_seen_ = true;
+  slider_stamp_.hear(msg.header.stamp);
   if (session_->commandSlider(msg.position) != flagella::CommandVerdict::Accepted) logRejection();
 }
 
@@ -231,9 +227,8 @@ bool SimNode::waitForSubscribers() {
 
 bool SimNode::lockstepReady() {
   if (!awaiting_command_) return true;
-  const bool motor_answered = command_seen_ && latest_command_stamp_ >= awaited_stamp_;
-  const bool slider_answered =
-      !options_.lockstep_slider || (slider_seen_ && latest_slider_stamp_ >= awaited_stamp_);
+  const bool motor_answered = motor_stamp_.answers(awaited_stamp_);
+  const bool slider_answered = !options_.lockstep_slider || slider_stamp_.answers(awaited_stamp_);
   if (motor_answered && slider_answered) {
     awaiting_command_ = false;
     return true;

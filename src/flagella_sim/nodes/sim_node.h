@@ -94,8 +94,17 @@ class SimNode {
   bool awaiting_command_ = false;
   ros::Time awaited_stamp_;
   ros::WallTime await_wall_start_;
-  bool command_seen_ = false, slider_seen_ = false;
-  ros::Time latest_command_stamp_, latest_slider_stamp_;
+  /// The newest stamp heard on a command topic.
+  struct NewestStamp {
+    bool seen = false;
+    ros::Time stamp;
+    void hear(const ros::Time& t) {
+      if (!seen || t > stamp) stamp = t;
+      seen = true;
+    }
+    bool answers(const ros::Time& awaited) const { return seen && stamp >= awaited; }
+  };
+  NewestStamp motor_stamp_, slider_stamp_;
   long lockstep_timeouts_ = 0;
   // Logging: rejected commands at most once per kRejectionLogPeriod of wall time, failsafe
   // engage and release once each.

@@ -39,4 +39,14 @@ class PendingFix {
   bool pending_ = false;
 };
 
+/// One controller step on `in`, with the pending camera fix if it was taken before the IMU
+/// sample; `in` leaves without a position.
+inline ControllerOutputs stepWithLatestFix(ControllerCore& controller, ControllerInputs& in,
+                                           PendingFix& fix) {
+  fix.deliverBefore(in);
+  const ControllerOutputs out = controller.step(in);
+  in.position_valid = false;
+  return out;
+}
+
 }  // namespace flagella::control
