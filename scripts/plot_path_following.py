@@ -43,6 +43,7 @@ def main():
     parser.add_argument("--out", required=True, help="PNG to write")
     parser.add_argument("--robot", default="flagella", help="robot namespace in the bag")
     parser.add_argument("--tail-length", type=float, default=0.11, help="l [m], the unit of the printed errors")
+    parser.add_argument("--shown-as", help="the plot's path to print (when the caller moves it there afterwards)")
     parser.add_argument("--summary", help="also write the figures as JSON here")
     args = parser.parse_args()
 
@@ -84,7 +85,8 @@ def main():
     print("path following (%s): %s in %.0f s of simulated time; cross-track error max %.1f mm (%.2f l), "
           "RMS %.1f mm (%.2f l); plot: %s"
           % (controller, "complete" if finished else "NOT complete", end - start, 1e3 * max_err,
-             max_err / args.tail_length, 1e3 * rms_err, rms_err / args.tail_length, args.out))
+             max_err / args.tail_length, 1e3 * rms_err, rms_err / args.tail_length,
+             args.shown_as or args.out))
     if args.summary:
         with open(args.summary, "w") as f:
             json.dump(figures, f, indent=2)

@@ -55,15 +55,20 @@ bash "$ROOT/scripts/build.sh"
 source "$ROOT/scripts/ros_env.sh" "$ROOT/devel/setup.bash"
 mkdir -p "$ROOT/out"
 STAGE="$(mktemp -d "$ROOT/out/.main.XXXXXX")"  # this run's outputs until it has succeeded
-trap 'rm -rf "$ROS_TMP" "$STAGE"' EXIT
+trap 'rm -rf "$STAGE"' EXIT
 echo "run_main: master on $ROS_MASTER_URI; bag, plot and summary in $OUT"
-roslaunch -p "$ROS_PORT" "$LAUNCH" record:=true bag:="$STAGE/path_following.bag" "$@"
+if ! /usr/bin/python3 "$ROOT/scripts/roslaunch_session.py" "$LAUNCH" record:=true \
+  bag:="$STAGE/path_following.bag" "$@"; then
+  echo "run_main: the session failed (see its output above; logs in $ROS_HOME/log); $OUT unchanged" >&2
+  exit 1
+fi
 if [[ ! -s "$STAGE/path_following.bag" ]]; then
   echo "run_main: the session left no bag (see the roslaunch output above); $OUT unchanged" >&2
   exit 1
 fi
 if ! /usr/bin/python3 "$ROOT/scripts/plot_path_following.py" "$STAGE/path_following.bag" \
-  --out "$STAGE/path_following.png" --summary "$STAGE/summary.json"; then
+  --out "$STAGE/path_following.png" --summary "$STAGE/summary.json" \
+  --shown-as "$OUT/path_following.png"; then
   echo "run_main: plotting the session failed; $OUT unchanged" >&2
   exit 1
 fi

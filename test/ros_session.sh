@@ -1,9 +1,12 @@
-# Sourced by the shell tests: the private ROS environment of scripts/ros_env.sh plus cleanup
-# of everything the test started, even on failure.
+# Sourced by the shell tests: the ROS environment of scripts/ros_env.sh on a private master (a
+# free port, a temporary ROS_HOME) plus cleanup of everything the test started, even on failure.
 # Usage: source ros_session.sh <devel/setup.bash>
-source "$(dirname "${BASH_SOURCE[0]}")/../scripts/ros_env.sh" "$1"
+SESSION_TMP="$(mktemp -d)"
+export ROS_HOME="$SESSION_TMP/ros_home"
+FLAGELLA_ROS_PORT="$(/usr/bin/python3 "$(dirname "${BASH_SOURCE[0]}")/../scripts/free_ros_port.py")"
+export FLAGELLA_ROS_PORT
+source "$(dirname "${BASH_SOURCE[0]}")/../scripts/ros_env.sh" "$1" 2>/dev/null
 FLAGELLA_REPO="$FLAGELLA_ROOT"
-SESSION_TMP="$ROS_TMP"
 SESSION_PIDS=()
 cleanup_session() {
   for pid in "${SESSION_PIDS[@]}"; do kill -INT -- "-$pid" 2>/dev/null || kill -INT "$pid" 2>/dev/null || true; done

@@ -1,5 +1,6 @@
-// What the controller nodes share: private parameters with defaults, the IMU message as a
-// controller core's inputs, and the status period from ~status_rate.
+// What the controller nodes share: private parameters with defaults, file parameters relative to
+// the launch directory, the IMU message as a controller core's inputs, the status period from
+// ~status_rate, and the start-up watchdog.
 #pragma once
 
 #include <ros/ros.h>
@@ -11,6 +12,7 @@
 
 #include "flagella_control/controller_core.h"
 #include "flagella_control/pending_fix.h"
+#include "flagella_sim/core/file_paths.h"
 
 namespace flagella::control::node {
 
@@ -20,6 +22,47 @@ T param(ros::NodeHandle& pnh, const std::string& name, T fallback) {
   pnh.param(name, value, fallback);
   return value;
 }
+
+/// A file parameter (empty when unset); a relative path is taken against ~base_directory, which
+/// the launch files set to the directory roslaunch was started in.
+inline std::string fileParam(ros::NodeHandle& pnh, const std::string& name) {
+  return flagella::resolveAgainst(param<std::string>(pnh, name, ""),
+                                  param<std::string>(pnh, "base_directory", ""));
+}
+
+/// Ends the node when no IMU sample has arrived within ~startup_timeout wall seconds (default 60,
+/// 0 = wait forever): a session whose simulator never started fails instead of waiting forever.
+class StartupWatchdog {
+ public:
+  StartupWatchdog(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::string& imu_topic) {
+    const double timeout = param(pnh, "startup_timeout", 60.0);
+    if (!(timeout >= 0.0 && timeout <= 86400.0))
+      throw std::invalid_argument(
+          "~startup_timeout must be in [0, 86400] wall s (0: no limit), got " +
+          std::to_string(timeout));
+    if (timeout == 0.0) return;
+    timer_ = nh.createWallTimer(
+        ros::WallDuration(timeout),
+        [this, imu_topic, timeout](const ros::WallTimerEvent&) {
+          if (heard_) return;
+          ROS_FATAL(
+              "no IMU sample on %s within %.0f wall s of start: is the simulator running? "
+              "(~startup_timeout)",
+              imu_topic.c_str(), timeout);
+          expired_ = true;
+          ros::shutdown();
+        },
+        /*oneshot=*/true);
+  }
+  void heard() { heard_ = true; }
+  /// The node's exit code: 1 when the watchdog ended it, else 0.
+  int exitCode() const { return expired_ ? 1 : 0; }
+
+ private:
+  ros::WallTimer timer_;
+  bool heard_ = false;
+  bool expired_ = false;
+};
 
 /// 1 / ~status_rate [s]; throws std::invalid_argument outside (0, 1000] Hz.
 inline double statusPeriod(ros::NodeHandle& pnh) {

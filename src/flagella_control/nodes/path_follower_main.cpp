@@ -10,9 +10,9 @@ int main(int argc, char** argv) {
   try {
     flagella::control::node::PathFollowerNode node(nh, pnh);
     ros::spin();
+    return node.exitCode();
   } catch (const std::exception& e) {
     ROS_FATAL("flagella_path_follower: %s", e.what());
     return 1;
   }
-  return 0;
 }

@@ -36,7 +36,7 @@ PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   if (mode_ != "closed_loop" && mode_ != "open_loop")
     throw std::invalid_argument("~mode must be 'closed_loop' or 'open_loop', got '" + mode_ + "'");
   world_frame_ = param<std::string>(pnh, "world_frame", "world");
-  const std::string calibration_file = param<std::string>(pnh, "calibration", "");
+  const std::string calibration_file = fileParam(pnh, "calibration");
   if (calibration_file.empty())
     throw std::invalid_argument("~calibration (a YAML file) is required");
   calibration_ = flagella::control::loadCalibration(calibration_file);
@@ -58,7 +58,7 @@ PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   motor_pub_ = nh.advertise<flagella_msgs::MotorCommand>("motor_command", kQueue);
   status_pub_ = nh.advertise<flagella_msgs::ControllerStatus>("controller_status", kQueue);
   reference_pub_ = nh.advertise<nav_msgs::Path>("reference_path", 1, /*latch=*/true);
-  const std::string path_file = param<std::string>(pnh, "path", "");
+  const std::string path_file = fileParam(pnh, "path");
   if (!path_file.empty()) {
     build(flagella::control::loadPathSpec(path_file));
   } else {
@@ -67,6 +67,7 @@ PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
              path_sub_.getTopic().c_str());
   }
   imu_sub_ = nh.subscribe("imu", kQueue, &PathFollowerNode::onImu, this);
+  watchdog_ = std::make_unique<StartupWatchdog>(nh, pnh, imu_sub_.getTopic());
   fix_sub_ = nh.subscribe("camera_fix", kQueue, &PathFollowerNode::onCameraFix, this);
 }
 
@@ -106,6 +107,7 @@ void PathFollowerNode::onCameraFix(const geometry_msgs::PointStamped& msg) {
 }
 
 void PathFollowerNode::onImu(const sensor_msgs::Imu& msg) {
+  watchdog_->heard();
   if (!controller_) return;
   imuToInputs(msg, inputs_);
   const ControllerOutputs out = stepWithLatestFix(*controller_, inputs_, fix_);

@@ -21,6 +21,8 @@ class PathFollowerNode {
  public:
   /// Reads parameters; throws std::runtime_error / std::invalid_argument on bad input.
   PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
+  /// 0, or 1 when the start-up watchdog ended the node (no IMU sample).
+  int exitCode() const { return watchdog_->exitCode(); }
 
  private:
   void onImu(const sensor_msgs::Imu& msg);
@@ -45,6 +47,7 @@ class PathFollowerNode {
   double linger_ = 1.0;
 
   ros::Publisher motor_pub_, status_pub_, reference_pub_;
+  std::unique_ptr<StartupWatchdog> watchdog_;
   ros::Subscriber imu_sub_, fix_sub_, path_sub_;
 };
 

@@ -12,9 +12,9 @@ int main(int argc, char** argv) {
   try {
     flagella::control::node::SteeringNode node(nh, pnh);
     ros::spin();
+    return node.exitCode();
   } catch (const std::exception& e) {
     ROS_FATAL("flagella_steering_controller: %s", e.what());
     return 1;
   }
-  return 0;
 }

@@ -35,10 +35,10 @@ visualization_msgs::Marker marker(const std::string& frame, const ros::Time& sta
 SteeringNode::SteeringNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   world_frame_ = param<std::string>(pnh, "world_frame", "world");
   head_frame_ = param<std::string>(pnh, "head_frame", "flagella/head");
-  const std::string calibration_file = param<std::string>(pnh, "calibration", "");
+  const std::string calibration_file = fileParam(pnh, "calibration");
   if (calibration_file.empty())
     throw std::invalid_argument("~calibration (a YAML file) is required");
-  const std::string waypoints_file = param<std::string>(pnh, "waypoints", "");
+  const std::string waypoints_file = fileParam(pnh, "waypoints");
   if (waypoints_file.empty()) throw std::invalid_argument("~waypoints (a YAML file) is required");
   SteeringGains gains;
   const std::string schedule = param<std::string>(pnh, "schedule", "relax");
@@ -63,6 +63,7 @@ SteeringNode::SteeringNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   slider_marker_pub_ = nh.advertise<visualization_msgs::Marker>("slider_marker", 10);
   estimate_pub_ = nh.advertise<nav_msgs::Path>("estimated_path", 1);
   imu_sub_ = nh.subscribe("imu", kQueue, &SteeringNode::onImu, this);
+  watchdog_ = std::make_unique<StartupWatchdog>(nh, pnh, imu_sub_.getTopic());
   fix_sub_ = nh.subscribe("camera_fix", kQueue, &SteeringNode::onCameraFix, this);
   estimated_path_.header.frame_id = world_frame_;
   ROS_INFO("flagella_steering_controller: %s, %zu waypoints (tolerance %.1f mm), %s schedule",
@@ -75,6 +76,7 @@ void SteeringNode::onCameraFix(const geometry_msgs::PointStamped& msg) {
 }
 
 void SteeringNode::onImu(const sensor_msgs::Imu& msg) {
+  watchdog_->heard();
   imuToInputs(msg, inputs_);
   const ControllerOutputs out = stepWithLatestFix(*controller_, inputs_, fix_);
 

@@ -22,6 +22,8 @@ class SteeringNode {
  public:
   /// Reads parameters; throws std::runtime_error / std::invalid_argument on bad input.
   SteeringNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
+  /// 0, or 1 when the start-up watchdog ended the node (no IMU sample).
+  int exitCode() const { return watchdog_->exitCode(); }
 
  private:
   void onImu(const sensor_msgs::Imu& msg);
@@ -46,6 +48,7 @@ class SteeringNode {
 
   ros::Publisher motor_pub_, slider_pub_, status_pub_, waypoint_pub_, slider_marker_pub_,
       estimate_pub_;
+  std::unique_ptr<StartupWatchdog> watchdog_;
   ros::Subscriber imu_sub_, fix_sub_;
 };
 

@@ -5,6 +5,7 @@
 //       --calibration config/calibration/interface_path_planning.yaml --path
 //       config/paths/square.yaml
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -16,7 +17,12 @@
 #include "flagella_control/tracking_metrics.h"
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/units.h"
+#include "flagella_sim/runtime/log_throttle.h"
 #include "flagella_sim/simulation/simulation_config.h"
+
+namespace {
+constexpr double kProgressPeriod = 10.0;  // [s wall] between progress lines on stderr
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Path following over LCM: core simulator + controller core (no ROS)"};
@@ -75,8 +81,16 @@ int main(int argc, char** argv) {
     }
     double next_sample = 0.0;
     bool finished = false;
+    flagella::LogThrottle progress_line(kProgressPeriod);
+    const auto wall_start = std::chrono::steady_clock::now();
     const auto after_step = [&]() {
       const auto& status = controller->status();
+      const double wall =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      long held_back = 0;
+      if (wall >= kProgressPeriod && progress_line.allow(wall, held_back))
+        std::fprintf(stderr, "flagella_follow_path: t = %.0f s simulated, %.0f %% of the path\n",
+                     session.time(), 100.0 * status.progress);
       if (!status.anchored || session.time() + 1e-9 < next_sample) return;
       next_sample += sample_interval;
       const flagella::RodSnapshot s = session.snapshot();

@@ -6,9 +6,13 @@
 #include <geometry_msgs/PointStamped.h>
 #include <ros/callback_queue.h>
 #include <sensor_msgs/Imu.h>
+#include <std_msgs/Empty.h>
 #include <tf2_msgs/TFMessage.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <sstream>
+
+#include "flagella_sim/core/file_paths.h"
 #include "flagella_sim/lcm_io/lcm_messages.h"
 #include "flagella_sim/simulation/simulation_config.h"
 #include "node_params.h"
@@ -41,6 +45,9 @@ SimNodeOptions nodeOptionsFromParams(const ros::NodeHandle& nh, const ros::NodeH
   SimNodeOptions o;
   if (!pnh.getParam("config", o.config_path) || o.config_path.empty())
     throw flagella::ConfigError("parameter ~config (path of a robot config YAML) is required");
+  // a relative path: from the directory roslaunch was started in (the launch files' base_directory)
+  o.config_path =
+      flagella::resolveAgainst(o.config_path, pnh.param<std::string>("base_directory", ""));
   pnh.param<std::string>("world_frame", o.world_frame, o.world_frame);
   pnh.param<std::string>("tf_prefix", o.tf_prefix, defaultPrefix(nh));
   o.real_time_factor = rangedParam(pnh, "real_time_factor", o.real_time_factor, 0.0,
@@ -55,7 +62,14 @@ SimNodeOptions nodeOptionsFromParams(const ros::NodeHandle& nh, const ros::NodeH
       static_cast<int>(rangedParam(pnh, "path_max_poses", o.path_max_poses, 1, 1e7, "poses"));
   o.duration = rangedParam(pnh, "duration", o.duration, 0.0, kMaxDuration, "s (0: forever)");
   pnh.param("wait_for_subscribers", o.wait_for_subscribers, o.wait_for_subscribers);
+  pnh.param<std::string>("wait_for_recorder", o.wait_for_recorder, o.wait_for_recorder);
+  std::string followers;
+  pnh.param<std::string>("followers", followers, "");
+  std::istringstream names(followers);
+  for (std::string name; names >> name;) o.followers.push_back(name);
   o.wait_timeout = rangedParam(pnh, "wait_timeout", o.wait_timeout, 0.0, 1e6, "s");
+  o.progress_period =
+      rangedParam(pnh, "progress_period", o.progress_period, 0.0, 1e6, "wall s (0: none)");
   pnh.param("lockstep", o.lockstep, o.lockstep);
   pnh.param("lockstep_slider", o.lockstep_slider, o.lockstep_slider);
   o.lockstep_timeout = rangedParam(pnh, "lockstep_timeout", o.lockstep_timeout, 1e-3,
@@ -89,8 +103,19 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
 
   if (options_.publish_clock)
     clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", kQueue);
-  else
+  else {
     clock_sub_ = nh.subscribe("/clock", kQueue, &SimNode::onClock, this);
+    time_pub_ = pnh.advertise<rosgraph_msgs::Clock>("time", kQueue);
+  }
+  for (const std::string& name : options_.followers) {
+    auto f = std::make_unique<Follower>();
+    f->name = name;
+    Follower* raw = f.get();
+    f->time_sub = nh.subscribe<rosgraph_msgs::Clock>(
+        name + "/time", kQueue,
+        [raw](const rosgraph_msgs::Clock::ConstPtr& m) { raw->time = m->clock.toSec(); });
+    followers_.push_back(std::move(f));
+  }
   state_pub_ = nh.advertise<flagella_msgs::RodState>("rod_state", kQueue);
   imu_pub_ = nh.advertise<sensor_msgs::Imu>("imu", kQueue);
   if (session_->options().camera.enabled())
@@ -188,12 +213,21 @@ bool SimNode::onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Respon
 }
 
 bool SimNode::waitForSubscribers() {
-  if (!options_.wait_for_subscribers && !options_.lockstep) return true;
+  if (!options_.wait_for_subscribers && !options_.lockstep && options_.wait_for_recorder.empty())
+    return true;
   const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(options_.wait_timeout);
   ros::Publisher* outputs[] = {&state_pub_, &imu_pub_,  &marker_pub_, &path_pub_,
                                &tf_pub_,    &diag_pub_, &camera_pub_};
+  bool recorder_ready = options_.wait_for_recorder.empty();
+  ros::Subscriber recorder_sub;
+  if (!recorder_ready) {
+    ros::NodeHandle nh;
+    recorder_sub = nh.subscribe<std_msgs::Empty>(
+        options_.wait_for_recorder, 1,
+        [&](const std_msgs::Empty::ConstPtr&) { recorder_ready = true; });
+  }
   while (ros::ok()) {
-    bool outputs_ready = true;
+    bool outputs_ready = recorder_ready;
     if (options_.wait_for_subscribers)
       for (ros::Publisher* p : outputs)
         outputs_ready = outputs_ready && (!*p || p->getNumSubscribers() > 0);
@@ -203,7 +237,9 @@ bool SimNode::waitForSubscribers() {
     if (outputs_ready && controller_ready) return true;
     if (ros::WallTime::now() > give_up) {
       if (!outputs_ready)
-        ROS_WARN("flagella_sim: not every output topic has a subscriber after %.1f s; starting",
+        ROS_WARN("flagella_sim: %s after %.1f s; starting",
+                 recorder_ready ? "not every output topic has a subscriber"
+                                : ("no message on " + options_.wait_for_recorder).c_str(),
                  options_.wait_timeout);
       if (!controller_ready)
         ROS_WARN(
@@ -248,9 +284,41 @@ bool SimNode::lockstepReady() {
   return false;
 }
 
+bool SimNode::followersCaughtUp() {
+  bool caught_up = true;
+  for (const auto& f : followers_)
+    caught_up = caught_up && (f->lost || f->time + 0.5 * session_->dt() >= clockTime());
+  if (caught_up) {
+    waiting_for_followers_ = false;
+    return true;
+  }
+  // A follower still starting up (nothing heard yet) gets wait_timeout, one that stalls mid-run
+  // lockstep_timeout; then it is warned about once and no longer waited for.
+  bool starting = false;
+  for (const auto& f : followers_) starting = starting || (!f->lost && f->time < 0.0);
+  const double limit = starting ? options_.wait_timeout : options_.lockstep_timeout;
+  if (!waiting_for_followers_) {
+    waiting_for_followers_ = true;
+    follower_wait_start_ = ros::WallTime::now();
+  } else if ((ros::WallTime::now() - follower_wait_start_).toSec() > limit) {
+    for (const auto& f : followers_)
+      if (!f->lost && f->time + 0.5 * session_->dt() < clockTime()) {
+        f->lost = true;
+        ROS_WARN(
+            "flagella_sim: follower %s silent for %.1f wall s at t = %.3f s; no longer "
+            "waiting for it",
+            f->name.c_str(), limit, clockTime());
+      }
+    return true;
+  }
+  ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(kLockstepPoll));
+  return false;
+}
+
 bool SimNode::readyToStep() {
   if (paused_ || session_->halted()) return false;
   if (!lockstepReady()) return false;
+  if (!followersCaughtUp()) return false;
   if (!options_.publish_clock) return clockTime() + 0.5 * session_->dt() <= followed_clock_;
   if (options_.real_time_factor <= 0.0) return true;
   const double due_wall = (session_->time() - pace_sim_start_) / options_.real_time_factor;
@@ -361,11 +429,31 @@ void SimNode::printSummary() const {
       h.solver_failures, total, wall > 0 ? total / wall : 0.0, topics.str().c_str());
 }
 
+void SimNode::publishTime() {
+  if (!time_pub_) return;
+  rosgraph_msgs::Clock c;
+  c.clock = stamp();
+  time_pub_.publish(c);
+}
+
+void SimNode::logProgress() {
+  if (options_.progress_period <= 0.0) return;
+  const ros::WallTime now = ros::WallTime::now();
+  if ((now - last_progress_).toSec() < options_.progress_period) return;
+  last_progress_ = now;
+  const double wall = (now - run_wall_start_).toSec();
+  std::ostringstream of;
+  if (options_.duration > 0.0) of << " of " << options_.duration;
+  ROS_INFO("flagella_sim: t = %.1f%s s simulated, %.2fx real time, %ld steps", clockTime(),
+           of.str().c_str(), wall > 0 ? clockTime() / wall : 0.0, session_->health().steps);
+}
+
 int SimNode::run() {
   if (!waitForSubscribers()) return 0;
-  run_wall_start_ = pace_wall_start_ = ros::WallTime::now();
+  run_wall_start_ = pace_wall_start_ = last_progress_ = ros::WallTime::now();
   pace_sim_start_ = session_->time();
   publishOutputs(true);
+  publishTime();
   publishDiagnostics();
   ros::WallTime last_wall_diagnostics = ros::WallTime::now();
   while (ros::ok()) {
@@ -394,7 +482,9 @@ int SimNode::run() {
       clock_pub_.publish(c);
     }
     publishOutputs(false);
+    publishTime();
     if (diagnostics_schedule_.due(session_->time())) publishDiagnostics();
+    logProgress();
   }
   publishDiagnostics();
   printSummary();

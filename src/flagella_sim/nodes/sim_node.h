@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "flagella_sim/runtime/log_throttle.h"
 #include "flagella_sim/runtime/rate_schedule.h"
@@ -35,6 +36,8 @@ struct SimNodeOptions {
   double duration = 0.0;              ///< stop after this much simulated time; 0: run until killed
   bool wait_for_subscribers = false;  ///< hold t = 0 until every output topic has a subscriber
   double wait_timeout = 30.0;         ///< [s wall] then start anyway, with a warning
+  /// Hold t = 0 until a message on this topic (flagella_record's latched ~ready); "" = no wait.
+  std::string wait_for_recorder;
   /// Software in the loop: after an IMU sample stamped t, hold the next step until a
   /// motor_command stamped >= t has arrived (or lockstep_timeout wall seconds have passed).
   bool lockstep = false;
@@ -42,6 +45,11 @@ struct SimNodeOptions {
   /// slider every step): the step then never depends on which command the network delivers first.
   bool lockstep_slider = false;
   double lockstep_timeout = 5.0;  ///< [s wall]
+  double progress_period = 10.0;  ///< [s wall] between progress lines; 0: none
+  /// Clock leader: the sim nodes following its /clock (e.g. "/robot_b/sim"); each step waits
+  /// until every follower has reached the leader's time (their ~time), so at
+  /// real_time_factor 0 the robots still share one simulated time.
+  std::vector<std::string> followers;
   MarkerStyle markers;
 };
 
@@ -56,6 +64,8 @@ class SimNode {
   void onMotorCommand(const flagella_msgs::MotorCommand& msg);
   void onSliderCommand(const flagella_msgs::SliderCommand& msg);
   void onClock(const rosgraph_msgs::Clock& msg);
+  /// True when every follower has reached this node's time (or was given up as lost).
+  bool followersCaughtUp();
   bool onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
   bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
 
@@ -65,6 +75,10 @@ class SimNode {
   void publishOutputs(bool force);
   void publishDiagnostics();
   void printSummary() const;
+  /// One INFO line (simulated time, real-time factor) every progress_period wall seconds.
+  void logProgress();
+  /// A follower's ~time: its simulated time, at t = 0 and after every step.
+  void publishTime();
   double clockTime() const { return time_offset_ + session_->time(); }
   ros::Time stamp() const { return ros::Time(clockTime()); }
   template <typename M>
@@ -77,6 +91,16 @@ class SimNode {
   ros::Publisher clock_pub_, state_pub_, imu_pub_, marker_pub_, path_pub_, tf_pub_, diag_pub_,
       camera_pub_;
   ros::Subscriber motor_sub_, slider_sub_, clock_sub_;
+  ros::Publisher time_pub_;  ///< a follower's own simulated time, after every step
+  struct Follower {
+    std::string name;
+    ros::Subscriber time_sub;
+    double time = -1.0;  ///< latest ~time heard; < 0: none yet
+    bool lost = false;   ///< silent for lockstep_timeout: no longer waited for
+  };
+  std::vector<std::unique_ptr<Follower>> followers_;
+  ros::WallTime follower_wait_start_;
+  bool waiting_for_followers_ = false;
   ros::ServiceServer reset_srv_, pause_srv_;
 
   flagella::RateSchedule state_schedule_, imu_schedule_, marker_schedule_, path_schedule_,
@@ -90,6 +114,7 @@ class SimNode {
   ros::WallTime pace_wall_start_;
   double pace_sim_start_ = 0.0;
   ros::WallTime run_wall_start_;
+  ros::WallTime last_progress_;
   // Lockstep: the IMU stamp the next step waits for, and the newest command stamp seen.
   bool awaiting_command_ = false;
   ros::Time awaited_stamp_;
