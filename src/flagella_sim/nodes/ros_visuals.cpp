@@ -53,6 +53,12 @@ geometry_msgs::TransformStamped transform(const flagella::Vec3& origin,
   return t;
 }
 
+// The head frame (m1^0, m2^0, t^0) in base_link (x = -t^0, y = m2^0, z = m1^0): -90 deg about
+// y, which takes m1^0 to base z and t^0 to base -x.
+Eigen::Quaterniond baseFromHead() {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()));
+}
+
 diagnostic_msgs::KeyValue keyValue(const std::string& key, const std::string& value) {
   diagnostic_msgs::KeyValue kv;
   kv.key = key;
@@ -82,11 +88,12 @@ visualization_msgs::MarkerArray rodMarkers(const flagella::RodSnapshot& s, const
 
 std::vector<geometry_msgs::TransformStamped> rodTransforms(const flagella::RodSnapshot& s,
                                                            const ros::Time& stamp,
-                                                           const std::string& world_frame,
                                                            const std::string& prefix) {
   std::vector<geometry_msgs::TransformStamped> out;
-  out.push_back(
-      transform(s.head_position, s.head_orientation, stamp, world_frame, prefix + "/head"));
+  const std::string base = prefix + "/base_link";
+  const Eigen::Quaterniond base_rotation = s.head_orientation * baseFromHead().conjugate();
+  out.push_back(transform(s.head_position, base_rotation, stamp, prefix + "/odom", base));
+  const Eigen::Quaterniond to_base = base_rotation.conjugate();
   for (std::size_t k = 0; k < s.tail_nodes.size(); ++k) {
     const std::vector<int>& nodes = s.tail_nodes[k];
     if (nodes.size() < 2) continue;
@@ -96,12 +103,22 @@ std::vector<geometry_msgs::TransformStamped> rodTransforms(const flagella::RodSn
       const bool tip_edge = (s.edge_start[j] == before_tip && s.edge_end[j] == tip) ||
                             (s.edge_start[j] == tip && s.edge_end[j] == before_tip);
       if (!tip_edge) continue;
-      out.push_back(transform(s.nodes[tip], s.edge_frames[j], stamp, world_frame,
+      const flagella::Vec3 origin = to_base * (s.nodes[tip] - s.head_position);
+      out.push_back(transform(origin, to_base * s.edge_frames[j], stamp, base,
                               prefix + "/tail" + std::to_string(k)));
       break;
     }
   }
   return out;
+}
+
+std::vector<geometry_msgs::TransformStamped> staticFrames(const ros::Time& stamp,
+                                                          const std::string& world_frame,
+                                                          const std::string& prefix) {
+  return {transform(flagella::Vec3::Zero(), Eigen::Quaterniond::Identity(), stamp, world_frame,
+                    prefix + "/odom"),
+          transform(flagella::Vec3::Zero(), baseFromHead(), stamp, prefix + "/base_link",
+                    prefix + "/head")};
 }
 
 geometry_msgs::PoseStamped headPose(const flagella::RodSnapshot& s, const ros::Time& stamp,

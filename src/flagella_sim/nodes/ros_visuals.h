@@ -24,12 +24,19 @@ visualization_msgs::MarkerArray rodMarkers(const flagella::RodSnapshot& s, const
                                            const std::string& world_frame,
                                            const MarkerStyle& style);
 
-/// world -> <prefix>/head (head centre, frame m1^0, m2^0, t^0) and world -> <prefix>/tail<k>
-/// (material frame of each tail's last edge, at the tail tip).
+/// The moving frames (REP-103, REP-105): <prefix>/odom -> <prefix>/base_link (head centre, x
+/// forward = -t^0, y = m2^0, z = m1^0) and base_link -> <prefix>/tail<k> (material frame of
+/// each tail's last edge, at the tail tip).
 std::vector<geometry_msgs::TransformStamped> rodTransforms(const flagella::RodSnapshot& s,
                                                            const ros::Time& stamp,
-                                                           const std::string& world_frame,
                                                            const std::string& prefix);
+
+/// The fixed frames, for /tf_static: world -> <prefix>/odom (identity: the simulator knows the
+/// truth, so odometry does not drift) and base_link -> <prefix>/head (the head's material frame
+/// m1^0, m2^0, t^0, the IMU's frame).
+std::vector<geometry_msgs::TransformStamped> staticFrames(const ros::Time& stamp,
+                                                          const std::string& world_frame,
+                                                          const std::string& prefix);
 
 geometry_msgs::PoseStamped headPose(const flagella::RodSnapshot& s, const ros::Time& stamp,
                                     const std::string& world_frame);

@@ -85,7 +85,8 @@ void sleepWall(double seconds) { ros::WallDuration(seconds).sleep(); }
 }  // namespace
 
 SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
-    : options_(nodeOptionsFromParams(nh, pnh)),
+    : private_nh_(pnh),
+      options_(nodeOptionsFromParams(nh, pnh)),
       state_schedule_(options_.state_rate),
       imu_schedule_(0.0),  // set below from the session options, which hold the IMU rate
       marker_schedule_(options_.marker_rate),
@@ -123,11 +124,17 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
   marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", kQueue);
   path_pub_ = nh.advertise<nav_msgs::Path>("head_path", kQueue);
   tf_pub_ = nh.advertise<tf2_msgs::TFMessage>("/tf", kQueue);
+  tf_static_pub_ = nh.advertise<tf2_msgs::TFMessage>("/tf_static", 1, /*latch=*/true);
+  tf2_msgs::TFMessage fixed;
+  fixed.transforms = staticFrames(ros::Time(0, 1), options_.world_frame, options_.tf_prefix);
+  tf_static_pub_.publish(fixed);
   diag_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", kQueue);
   motor_sub_ = nh.subscribe("motor_command", kQueue, &SimNode::onMotorCommand, this);
   slider_sub_ = nh.subscribe("slider_command", kQueue, &SimNode::onSliderCommand, this);
   reset_srv_ = pnh.advertiseService("reset", &SimNode::onReset, this);
   pause_srv_ = pnh.advertiseService("pause", &SimNode::onPause, this);
+  reconfigure_srv_ = pnh.advertiseService("reconfigure", &SimNode::onReconfigure, this);
+  mirrorModelParameters();
   path_.header.frame_id = options_.world_frame;
 
   const auto& net = session_->simulation().network();
@@ -184,9 +191,7 @@ void SimNode::logFailsafeChange() {
 
 void SimNode::onClock(const rosgraph_msgs::Clock& msg) { followed_clock_ = msg.clock.toSec(); }
 
-bool SimNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
-  time_offset_ += session_->time();
-  session_->reset();
+void SimNode::restartOutputs() {
   failsafe_logged_ = false;
   path_.poses.clear();
   for (auto* s :
@@ -195,11 +200,53 @@ bool SimNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& 
   pace_wall_start_ = ros::WallTime::now();
   pace_sim_start_ = session_->time();
   was_halted_ = false;
+}
+
+bool SimNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  time_offset_ += session_->time();
+  session_->reset();
+  restartOutputs();
   res.success = true;
   res.message = "robot reset to its initial state at t = " + std::to_string(clockTime()) + " s";
   ROS_INFO_STREAM("flagella_sim: " << res.message);
   publishOutputs(true);
   return true;
+}
+
+bool SimNode::onReconfigure(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  std::string overrides;
+  private_nh_.param<std::string>("overrides", overrides, "");
+  std::unique_ptr<flagella::SimSession> rebuilt;
+  try {
+    const flagella::SimulationConfig config =
+        flagella::loadSimulationConfig(options_.config_path, splitOverrides(overrides));
+    rebuilt = std::make_unique<flagella::SimSession>(config, sessionOptionsFromParams(private_nh_));
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = std::string("not reconfigured, the session runs on unchanged: ") + e.what();
+    ROS_ERROR_STREAM("flagella_sim: " << res.message);
+    return true;
+  }
+  time_offset_ += session_->time();
+  session_ = std::move(rebuilt);
+  restartOutputs();
+  mirrorModelParameters();
+  res.success = true;
+  res.message = "reconfigured with overrides \"" + overrides +
+                "\", restarted at t = " + std::to_string(clockTime()) + " s";
+  ROS_INFO_STREAM("flagella_sim: " << res.message);
+  publishOutputs(true);
+  return true;
+}
+
+void SimNode::mirrorModelParameters() {
+  const flagella::Simulation& sim = session_->simulation();
+  for (const std::string& name : sim.parameterNames()) {
+    std::string key = "model/" + name;
+    for (char& c : key)
+      if (c == '.') c = '/';
+    private_nh_.setParam(key, sim.parameterSpec(name).value);
+  }
 }
 
 bool SimNode::onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
@@ -352,7 +399,7 @@ void SimNode::publishOutputs(bool force) {
     msg.robot_name = options_.tf_prefix;  // this robot's instance name, not its config type
     publish(state_pub_, msg);
     tf2_msgs::TFMessage tf;
-    tf.transforms = rodTransforms(snapshot, now, options_.world_frame, options_.tf_prefix);
+    tf.transforms = rodTransforms(snapshot, now, options_.tf_prefix);
     publish(tf_pub_, tf);
   }
   if (marker_due)

@@ -67,6 +67,13 @@ class SimNode {
   /// True when every follower has reached this node's time (or was given up as lost).
   bool followersCaughtUp();
   bool onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
+  /// ~reconfigure: the session rebuilt from the config with the ~overrides now on the parameter
+  /// server, restarted like a reset; a bad override leaves the running session as it was.
+  bool onReconfigure(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
+  /// Restarts the output schedules, the path and the pacing at the session's initial state.
+  void restartOutputs();
+  /// The model's named parameters onto the parameter server, ~model/<section>/<field>.
+  void mirrorModelParameters();
   bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
 
   bool waitForSubscribers();
@@ -84,10 +91,12 @@ class SimNode {
   template <typename M>
   void publish(ros::Publisher& pub, const M& msg);
 
+  ros::NodeHandle private_nh_;  ///< ~: parameters read again at reconfigure
   SimNodeOptions options_;
   std::unique_ptr<flagella::SimSession> session_;
   std::string status_name_;
 
+  ros::Publisher tf_static_pub_;  ///< latched: world -> odom, base_link -> head
   ros::Publisher clock_pub_, state_pub_, imu_pub_, marker_pub_, path_pub_, tf_pub_, diag_pub_,
       camera_pub_;
   ros::Subscriber motor_sub_, slider_sub_, clock_sub_;
@@ -101,7 +110,7 @@ class SimNode {
   std::vector<std::unique_ptr<Follower>> followers_;
   ros::WallTime follower_wait_start_;
   bool waiting_for_followers_ = false;
-  ros::ServiceServer reset_srv_, pause_srv_;
+  ros::ServiceServer reset_srv_, pause_srv_, reconfigure_srv_;
 
   flagella::RateSchedule state_schedule_, imu_schedule_, marker_schedule_, path_schedule_,
       diagnostics_schedule_, camera_schedule_;

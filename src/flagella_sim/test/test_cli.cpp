@@ -131,6 +131,11 @@ TEST_F(FlagellaRun, ShortRunWritesTimeseriesAndSummary) {
   const fs::path json = out.path() / "summary.json";
   ASSERT_TRUE(fs::exists(csv));
   ASSERT_TRUE(fs::exists(json));
+  // the run's plot (head path, speed, yaw rate) beside the table it was drawn from
+  const fs::path png = out.path() / "run.png";
+  ASSERT_TRUE(fs::exists(png)) << r.output;
+  EXPECT_GT(fs::file_size(png), 10000u);
+  EXPECT_TRUE(contains(r.output, "plot: ")) << r.output;
 
   const std::vector<std::string> rows = lines(testing::readTextFile(csv));
   ASSERT_FALSE(rows.empty());

@@ -63,11 +63,14 @@ int main(int argc, char** argv) {
 
   RunOptions run;
   Shortcuts run_short;
-  CLI::App* run_cmd =
-      app.add_subcommand("run", "simulate one config; write timeseries.csv and summary.json");
+  CLI::App* run_cmd = app.add_subcommand(
+      "run", "simulate one config; write timeseries.csv, summary.json and run.png");
   addCommon(run_cmd, run);
   run_short.add(run_cmd);
   run_cmd->add_flag("--nodes", run.nodes, "also write all node positions to nodes.csv");
+  run.plot_script = FLAGELLA_RUN_PLOT_SCRIPT;
+  run_cmd->add_option("--plot-script", run.plot_script,
+                      "matplotlib script drawing run.png (head path, speed, yaw rate); '' to skip");
 
   SweepOptions sweep;
   Shortcuts sweep_short;

@@ -8,11 +8,12 @@
 
 namespace flagella::cli {
 
-inline void plotTable(const std::string& script, const std::string& table, const std::string& png) {
+inline void plotTable(const std::string& script, const std::string& table, const std::string& png,
+                      const char* what = "sweep plot") {
   if (script.empty()) return;
   const std::string cmd = "/usr/bin/python3 '" + script + "' '" + table + "' '" + png + "'";
   if (std::system(cmd.c_str()) == 0)
-    std::printf("sweep plot: %s\n", png.c_str());
+    std::printf("%s: %s\n", what, png.c_str());
   else
     std::fprintf(stderr, "warning: plotting failed (%s)\n", cmd.c_str());
 }

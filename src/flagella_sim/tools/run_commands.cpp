@@ -167,12 +167,13 @@ RunResult simulate(const SimulationConfig& config, Simulation& sim, bool quiet) 
 constexpr char kTimeseriesFile[] = "timeseries.csv";
 constexpr char kNodesFile[] = "nodes.csv";
 constexpr char kSummaryFile[] = "summary.json";
+constexpr char kPlotFile[] = "run.png";
 
 // Removes a previous run's outputs from the folder (said on stderr), so none is left stale:
 // nodes.csv of an earlier --nodes run, or everything of a run that this one will not reach.
 void clearPreviousRun(const std::string& out_dir) {
   std::string removed;
-  for (const char* name : {kTimeseriesFile, kNodesFile, kSummaryFile}) {
+  for (const char* name : {kTimeseriesFile, kNodesFile, kSummaryFile, kPlotFile}) {
     const std::filesystem::path file = std::filesystem::path(out_dir) / name;
     if (std::filesystem::remove(file)) removed += (removed.empty() ? "" : ", ") + std::string(name);
   }
@@ -200,6 +201,8 @@ int runCommand(const RunOptions& o) {
   printSummary(config, r.summary, std::cout);
   std::printf("  wall time %.2f s, %.1fx real time; outputs in %s/\n", r.wall,
               r.wall > 0 ? sim.time() / r.wall : 0.0, o.out_dir.c_str());
+  std::fflush(stdout);
+  plotTable(o.plot_script, o.out_dir + "/" + kTimeseriesFile, o.out_dir + "/" + kPlotFile, "plot");
   if (r.failed) {
     std::fprintf(stderr, "error: solver failure, outputs hold the run up to t = %.3f s: %s\n",
                  sim.time(), r.error.c_str());

@@ -14,7 +14,8 @@ struct CommonOptions {
 };
 
 struct RunOptions : CommonOptions {
-  bool nodes = false;  ///< also write node positions
+  bool nodes = false;       ///< also write node positions
+  std::string plot_script;  ///< draws run.png from timeseries.csv; "" = no plot
 };
 
 struct SweepOptions : CommonOptions {

@@ -8,6 +8,12 @@
   command restarts it; both changes are logged once.
 - Pause freezes simulated time; resume continues it.
 - Reset puts the robot back in its initial shape while the clock keeps running forward.
+- Frames (REP-103/105): world -> odom (static, identity) -> base_link -> head (static) composes
+  to the head pose of the rod state at the same stamp, and base_link's x axis is the head's
+  forward direction -t^0, z is m1^0.
+- The model's parameters are on the parameter server (~model/...), equal to the config file's;
+  ~reconfigure applies new ~overrides (mirrored back), and a bad one is refused with the field
+  and its range while the session runs on unchanged.
 Expects the node in namespace /flagella with initial_motor:=stopped, command_timeout:=0.5,
 max_motor_rpm:=200 and noise-free IMU (see test/sim_node.test).
 """
@@ -23,6 +29,7 @@ from flagella_msgs.msg import MotorCommand, RodState
 from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import Imu
 from std_srvs.srv import SetBool, Trigger
+from tf2_msgs.msg import TFMessage
 
 NS = "/flagella"
 COMMAND = 10.0            # rad/s, inside the allowed 200 rpm = 20.9 rad/s
@@ -47,6 +54,23 @@ class Listener:
         rospy.Subscriber("/rosout", Log, self.on_log, queue_size=1000)
         rospy.Subscriber(NS + "/imu", Imu, self.on_imu, queue_size=1000)
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=100)
+        self.tf = {}         # stamp [ns] -> {child: transform} from /tf
+        self.tf_static = {}  # child -> transform from /tf_static
+        rospy.Subscriber("/tf", TFMessage, self.on_tf, queue_size=1000)
+        rospy.Subscriber("/tf_static", TFMessage, self.on_tf_static, queue_size=10)
+
+    def on_tf(self, msg):
+        with self.lock:
+            for t in msg.transforms:
+                self.tf.setdefault(t.header.stamp.to_nsec(), {})[t.child_frame_id] = t
+            if len(self.tf) > 2000:
+                for key in sorted(self.tf)[:1000]:
+                    del self.tf[key]
+
+    def on_tf_static(self, msg):
+        with self.lock:
+            for t in msg.transforms:
+                self.tf_static[t.child_frame_id] = t
 
     def on_state(self, msg):
         with self.lock:
@@ -90,6 +114,33 @@ class Listener:
                 if kv.key == key:
                     return kv.value
         return None
+
+
+def quat_mul(a, b):
+    """Hamilton product of (w, x, y, z) tuples."""
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return (aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw)
+
+
+def rotate(q, v):
+    """v rotated by the unit quaternion q = (w, x, y, z)."""
+    w, x, y, z = quat_mul(quat_mul(q, (0.0,) + tuple(v)), (q[0], -q[1], -q[2], -q[3]))
+    return (x, y, z)
+
+
+def as_pose(t):
+    """(translation, rotation (w, x, y, z)) of a geometry_msgs/TransformStamped."""
+    tr, r = t.transform.translation, t.transform.rotation
+    return (tr.x, tr.y, tr.z), (r.w, r.x, r.y, r.z)
+
+
+def compose(parent, child):
+    """The pose of `child` (given in `parent`'s frame) in the frame `parent` is given in."""
+    (pt, pq), (ct, cq) = parent, child
+    moved = rotate(pq, ct)
+    return tuple(a + b for a, b in zip(pt, moved)), quat_mul(pq, cq)
 
 
 class Commander(threading.Thread):
@@ -259,6 +310,69 @@ class SimNodeChecks(unittest.TestCase):
         self.assertGreaterEqual(sim_time_of(self.listener.latest_state()), t_reset)
         stamps = [sim_time_of(s) for s in self.listener.states]
         self.assertEqual(stamps, sorted(stamps), "clock went backwards")
+
+    def test_6_frames_compose_to_the_head_pose(self):
+        self.commander.value = COMMAND
+        self.commander.enabled = True
+        self.wait_sim(1.0)
+        self.assertTrue(wait_until(lambda: len(self.listener.tf_static) >= 2), "no /tf_static")
+        with self.listener.lock:
+            static = dict(self.listener.tf_static)
+            pairs = [(s, self.listener.tf.get(s.header.stamp.to_nsec(), {})) for s in self.listener.states]
+        odom, head = static.get(NS[1:] + "/odom"), static.get(NS[1:] + "/head")
+        self.assertIsNotNone(odom, "no world -> flagella/odom on /tf_static")
+        self.assertIsNotNone(head, "no flagella/base_link -> flagella/head on /tf_static")
+        self.assertEqual(odom.header.frame_id, "world")
+        self.assertEqual(head.header.frame_id, NS[1:] + "/base_link")
+        checked = 0
+        # A reset republishes the state at the stamp of the last one before it: skip such stamps.
+        stamps = [state.header.stamp.to_nsec() for state, _ in pairs]
+        for state, moving in pairs:
+            if stamps.count(state.header.stamp.to_nsec()) > 1:
+                continue
+            base = moving.get(NS[1:] + "/base_link")
+            if base is None:
+                continue
+            self.assertEqual(base.header.frame_id, NS[1:] + "/odom")
+            position, rotation = compose(compose(as_pose(odom), as_pose(base)), as_pose(head))
+            p, q = state.head_pose.position, state.head_pose.orientation
+            for a, b in zip(position, (p.x, p.y, p.z)):
+                self.assertAlmostEqual(a, b, delta=1e-9)
+            dot = sum(a * b for a, b in zip(rotation, (q.w, q.x, q.y, q.z)))
+            self.assertAlmostEqual(abs(dot), 1.0, delta=QUATERNION_TOL)
+            # base_link x = -t^0 (forward), z = m1^0, both from the rod state's head frame
+            head_q = (q.w, q.x, q.y, q.z)
+            base_q = as_pose(base)[1]
+            for a, b in zip(rotate(base_q, (1, 0, 0)), rotate(head_q, (0, 0, -1))):
+                self.assertAlmostEqual(a, b, delta=1e-9)
+            for a, b in zip(rotate(base_q, (0, 0, 1)), rotate(head_q, (1, 0, 0))):
+                self.assertAlmostEqual(a, b, delta=1e-9)
+            checked += 1
+        self.assertGreaterEqual(checked, 10, "too few rod_state / tf pairs with equal stamps")
+
+    def test_7_parameters_on_the_server_and_reconfigure(self):
+        import yaml
+        with open(rospy.get_param(NS + "/sim/config")) as f:
+            in_file = yaml.safe_load(f)["medium"]["viscosity"]
+        key = NS + "/sim/model/medium/viscosity"
+        self.assertEqual(rospy.get_param(key), in_file)
+        reconfigure = rospy.ServiceProxy(NS + "/sim/reconfigure", Trigger)
+        rospy.set_param(NS + "/sim/overrides", "medium.viscosity=3.5")
+        answer = reconfigure()
+        self.assertTrue(answer.success, answer.message)
+        self.assertEqual(rospy.get_param(key), 3.5)
+        t_after = sim_time_of(self.listener.latest_state())
+        self.wait_sim(0.2)  # still running
+        self.assertGreater(sim_time_of(self.listener.latest_state()), t_after)
+        rospy.set_param(NS + "/sim/overrides", "medium.viscosity=-1")
+        answer = reconfigure()
+        self.assertFalse(answer.success)
+        self.assertIn("medium.viscosity", answer.message)
+        self.assertIn("must be in [", answer.message)
+        self.assertEqual(rospy.get_param(key), 3.5)
+        rospy.set_param(NS + "/sim/overrides", "")
+        self.assertTrue(reconfigure().success)
+        self.assertEqual(rospy.get_param(key), in_file)
 
 
 if __name__ == "__main__":
