@@ -14,6 +14,7 @@
 #include "flagella_control/calibration_runner.h"
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/units.h"
+#include "flagella_sim/runtime/tool_main.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
 namespace units = flagella::units;
@@ -78,12 +79,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--settle-periods", options.settle_periods, "switching run: discarded periods")
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
 
   std::string command = "flagella_calibrate";
   for (int i = 1; i < argc; ++i) command += " " + shellQuoted(argv[i]);
 
-  try {
+  return flagella::cli::runGuarded([&] {
     options.validate();
     const flagella::SimulationConfig config =
         flagella::loadSimulationConfig(config_path, overrides);
@@ -124,14 +125,6 @@ int main(int argc, char** argv) {
     std::printf("simulated %.0f s in %.1f s wall (%.1fx real time); wrote %s\n", simulated, wall,
                 simulated / wall, output.c_str());
     return 0;
-  } catch (const flagella::ConfigError& e) {
-    std::cerr << "configuration error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
+    return 0;
+  });
 }

@@ -18,6 +18,7 @@
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/runtime/log_throttle.h"
+#include "flagella_sim/runtime/tool_main.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
 namespace {
@@ -55,9 +56,9 @@ int main(int argc, char** argv) {
   app.add_option("--heading-gain", gains.heading_gain,
                  "closed loop: course error share per period");
   app.add_option("--csv", csv_path, "write t, true and estimated head position, command as CSV");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
 
-  try {
+  return flagella::cli::runGuarded([&] {
     session_options.camera.seed = session_options.imu.seed + 1;
     const flagella::SimulationConfig config =
         flagella::loadSimulationConfig(config_path, overrides);
@@ -119,11 +120,6 @@ int main(int argc, char** argv) {
         flagella::units::metresToMm(stats.max_abs), stats.max_abs / l,
         flagella::units::metresToMm(stats.rms()), stats.rms() / l, stats.samples);
     return report.halted ? 3 : finished ? 0 : 4;
-  } catch (const flagella::ConfigError& e) {
-    std::cerr << "configuration error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
+    return 0;
+  });
 }

@@ -9,6 +9,7 @@
 #include "flagella_control/lcm_harness.h"
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/units.h"
+#include "flagella_sim/runtime/tool_main.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
 int main(int argc, char** argv) {
@@ -33,9 +34,9 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--state-rate", options.state_rate, "rod state rate [Hz]")
       ->check(CLI::PositiveNumber);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
 
-  try {
+  return flagella::cli::runGuarded([&] {
     const flagella::SimulationConfig config =
         flagella::loadSimulationConfig(config_path, overrides);
     flagella::SimSession session(config, session_options);
@@ -57,11 +58,6 @@ int main(int argc, char** argv) {
                 flagella::units::metresToMm(moved.x()), flagella::units::metresToMm(moved.y()),
                 flagella::units::metresToMm(moved.z()), session.health().motor_rejected);
     return report.halted ? 3 : 0;
-  } catch (const flagella::ConfigError& e) {
-    std::cerr << "configuration error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
+    return 0;
+  });
 }

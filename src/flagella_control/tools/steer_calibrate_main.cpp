@@ -10,6 +10,7 @@
 
 #include "flagella_control/steering_calibration_runner.h"
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/runtime/tool_main.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Steering calibration of the helical robot with a mass-transformer"};
@@ -32,8 +33,8 @@ int main(int argc, char** argv) {
   app.add_option("--crab-step", options.crab_step,
                  "crab runs: slider offsets +- this from the park position [m]");
   app.add_option("--crab-measure", options.crab_measure, "crab runs: measured span [s]");
-  CLI11_PARSE(app, argc, argv);
-  try {
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
+  return flagella::cli::runGuarded([&] {
     const auto t0 = std::chrono::steady_clock::now();
     const flagella::SimulationConfig config =
         flagella::loadSimulationConfig(config_path, overrides);
@@ -43,11 +44,6 @@ int main(int argc, char** argv) {
     std::printf("wrote %s (%.0f s)\n", output.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     return 0;
-  } catch (const flagella::ConfigError& e) {
-    std::cerr << "configuration error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
+    return 0;
+  });
 }

@@ -12,6 +12,7 @@
 
 #include "flagella_control/steering_run.h"
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/runtime/tool_main.h"
 #include "steering_cli.h"
 
 int main(int argc, char** argv) {
@@ -30,8 +31,8 @@ int main(int argc, char** argv) {
                  "give up after this many simulated seconds (default: simulation.duration)");
   app.add_option("--json", json_path, "write the result as JSON");
   app.add_option("--csv", csv_path, "write the true and estimated path as CSV (for the plot)");
-  CLI11_PARSE(app, argc, argv);
-  try {
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
+  return flagella::cli::runGuarded([&] {
     std::vector<std::pair<std::string, double>> errors;
     for (const std::string& e : errors_text)
       errors.push_back(flagella::control::cli::assignment(e, "--model-error", "key=factor"));
@@ -64,11 +65,6 @@ int main(int argc, char** argv) {
       if (!csv) throw std::runtime_error("cannot write " + csv_path);
     }
     return result.halted ? 3 : result.reached == result.total ? 0 : 4;
-  } catch (const flagella::ConfigError& e) {
-    std::cerr << "configuration error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
+    return 0;
+  });
 }

@@ -13,6 +13,7 @@
 #include "flagella_control/steering_robustness.h"
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/runtime/parallel_for.h"
+#include "flagella_sim/runtime/tool_main.h"
 #include "steering_cli.h"
 
 int main(int argc, char** argv) {
@@ -35,8 +36,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0, 1e5));
   app.add_flag("!--no-nominal", options.nominal, "skip the nominal closed-loop runs");
   app.add_option("--json", json_path, "write every run as JSON");
-  CLI11_PARSE(app, argc, argv);
-  try {
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
+  return flagella::cli::runGuarded([&] {
     options.config_path = inputs.config_path;
     options.overrides = inputs.overrides;
     const auto calibration = inputs.calibration();
@@ -61,11 +62,6 @@ int main(int argc, char** argv) {
         return 1;
       }
     return 0;
-  } catch (const flagella::ConfigError& e) {
-    std::cerr << "configuration error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
+    return 0;
+  });
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "flagella_identify/check_overrides.h"
 #include "text_format.h"
 
 namespace flagella {
@@ -32,6 +33,7 @@ CalibrationResult calibrate(const MeasuredData& data, const YAML::Node& baseline
                             const std::string& source, const CalibrationOptions& options) {
   if (options.free.empty())
     throw ConfigError("calibration needs at least one free parameter (--free)");
+  checkDataOverrides(data, baseline, source, FittedNames{options.free, {}});
   Model model(baseline, source, options.free);
   const Evaluator evaluator(data, trainingOnlySplit(data), options.evaluator);
   CalibrationResult result;

@@ -51,6 +51,7 @@ Candidate effectCandidate(const EffectDescriptor& d) {
     c.variables.push_back(
         variable(d.name + "." + v.variable, v.unit, v.lower, v.upper, v.log_scale));
   c.starts = h.starts;
+  c.writes = {"effects." + d.name};
   c.apply = [&d](YAML::Node& cfg, const std::vector<double>& values, double session_time) {
     const DiscoveryHints& hints = *d.discovery;
     std::vector<std::pair<std::string, double>> fields;
@@ -81,6 +82,7 @@ Candidate fabricationAsymmetryCandidate() {
   c.variables = {variable("fabrication_asymmetry.length_ratio", "", 0.5, 1.5, true),
                  variable("fabrication_asymmetry.stiffness_ratio", "", 0.2, 5.0, true)};
   c.starts = {{0.85, 1.0}, {1.0, 1.6}, {1.0, 0.6}};
+  c.writes = {"robot.tail_length_scale", "robot.tail_stiffness_scale"};
   c.apply = [](YAML::Node& cfg, const std::vector<double>& v, double) {
     const int n = tailCount(cfg);
     YAML::Node length(YAML::NodeType::Sequence), stiffness(YAML::NodeType::Sequence);

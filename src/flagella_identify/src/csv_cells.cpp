@@ -57,6 +57,17 @@ double requiredNumber(const csv::Table& table, const csv::Row& row, int index) {
   return *cellNumber(table, row, index, false);
 }
 
+std::optional<double> rangedNumber(const csv::Table& table, const csv::Row& row, int index,
+                                   bool optional, double min, double max, const std::string& unit) {
+  const std::optional<double> value = cellNumber(table, row, index, optional);
+  if (value && !(*value >= min && *value <= max))
+    throw DataError(table.path, row.line, index + 1,
+                    "column '" + table.header[index] + "': " + csv::formatNumber(*value) + " " +
+                        unit + " is outside the plausible range [" + csv::formatNumber(min) + ", " +
+                        csv::formatNumber(max) + "] " + unit);
+  return value;
+}
+
 void missingColumn(const csv::Table& table, const std::string& name) {
   throw DataError(
       table.path, table.header_line, 1,

@@ -14,12 +14,12 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
 
 const std::vector<MeasuredColumn>& measuredColumns() {
   static const std::vector<MeasuredColumn> columns = {
-      {"v_mm_s", "v", kMetresPerMm},
-      {"omega_h_rpm", "omega_h", kRadPerSecPerRpm},
-      {"omega_t_rpm", "omega_t", kRadPerSecPerRpm},
-      {"omega_yr_rad_s", "omega_yr", 1.0},
-      {"R_yr_mm", "R_yr", kMetresPerMm},
-      {"buckling_threshold_rpm", "buckling_threshold", kRadPerSecPerRpm}};
+      {"v_mm_s", "v", kMetresPerMm, -kMaxSpeedMmS, kMaxSpeedMmS, "mm/s"},
+      {"omega_h_rpm", "omega_h", kRadPerSecPerRpm, -kMaxRpm, kMaxRpm, "rpm"},
+      {"omega_t_rpm", "omega_t", kRadPerSecPerRpm, -kMaxRpm, kMaxRpm, "rpm"},
+      {"omega_yr_rad_s", "omega_yr", 1.0, -kMaxYawRateRadS, kMaxYawRateRadS, "rad/s"},
+      {"R_yr_mm", "R_yr", kMetresPerMm, 0.0, kMaxLengthMm, "mm"},
+      {"buckling_threshold_rpm", "buckling_threshold", kRadPerSecPerRpm, 0.0, kMaxRpm, "rpm"}};
   return columns;
 }
 

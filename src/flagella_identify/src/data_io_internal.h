@@ -22,12 +22,27 @@ bool contains(const std::vector<std::string>& names, const std::string& name);
 
 // ---------------------------------------------------------------- columns and overrides
 
-/// A measured column of a steady-state table: file name, output name, factor to SI.
+/// A measured column of a steady-state table: file name, output name, factor to SI, and the
+/// range a measurement of any robot of this kind can take (file units; README, measured data).
 struct MeasuredColumn {
   const char* column;
   const char* output;
   double to_si;
+  double min;
+  double max;
+  const char* unit;
 };
+
+/// Plausible ranges of measured and commanded values, in file units (README, measured data): far
+/// beyond any palm-sized robot, so they only catch values that cannot be measurements (1e308, a
+/// negative time, a unit mix-up by orders of magnitude).
+constexpr double kMaxRpm = 1e4;          ///< motor and body rates [rpm], the config's motor limit
+constexpr double kMaxSpeedMmS = 1e4;     ///< swimming speed [mm/s] (10 m/s)
+constexpr double kMaxYawRateRadS = 1e3;  ///< yaw rate [rad/s] (about kMaxRpm)
+constexpr double kMaxLengthMm = 1e9;     ///< positions and radii [mm] (1000 km)
+constexpr double kMaxTimeS = 1e6;        ///< times [s], the simulator's longest session
+constexpr double kMaxTurns = 1e9;        ///< counted turns (kMaxRpm over kMaxTimeS is 1.7e8)
+constexpr double kQuaternionNormTolerance = 1e-3;  ///< |q| - 1 allowed before normalising
 
 /// The measured columns in the documented order.
 const std::vector<MeasuredColumn>& measuredColumns();
@@ -50,6 +65,10 @@ std::optional<double> cellNumber(const csv::Table& table, const csv::Row& row, i
                                  bool optional);
 
 double requiredNumber(const csv::Table& table, const csv::Row& row, int index);
+
+/// The number in a cell (as cellNumber), which must lie in [min, max] (`unit` for messages).
+std::optional<double> rangedNumber(const csv::Table& table, const csv::Row& row, int index,
+                                   bool optional, double min, double max, const std::string& unit);
 
 [[noreturn]] void missingColumn(const csv::Table& table, const std::string& name);
 

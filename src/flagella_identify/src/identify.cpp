@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "flagella_identify/calibration.h"
+#include "flagella_identify/check_overrides.h"
 #include "text_format.h"
 
 namespace flagella {
@@ -180,7 +181,9 @@ Identification::Identification(MeasuredData data, YAML::Node baseline, std::stri
       baseline_(YAML::Clone(baseline)),
       source_(std::move(baseline_source)),
       options_(std::move(options)),
-      evaluator_(data_, makeSplit(data_), options_.evaluator) {}
+      evaluator_(data_, makeSplit(data_), options_.evaluator) {
+  checkDataOverrides(data_, baseline_, source_, fittedNames(options_.free, options_.candidates));
+}
 
 void Identification::say(const std::string& line) const {
   if (options_.progress) options_.progress(line);

@@ -76,9 +76,13 @@ double Metadata::positive(const YAML::Node& node, const std::string& field) cons
   return value;
 }
 
-double Metadata::nonNegative(const YAML::Node& node, const std::string& field) const {
+double Metadata::inRange(const YAML::Node& node, const std::string& field, double min,
+                         bool min_allowed, double max, const std::string& unit) const {
   const double value = number(node, field);
-  if (!(value >= 0.0)) fail(node, field + " must be >= 0, got " + csv::formatNumber(value));
+  const bool above = min_allowed ? value >= min : value > min;
+  if (!above || !(value <= max))
+    fail(node, field + " must be in " + (min_allowed ? "[" : "(") + csv::formatNumber(min) + ", " +
+                   csv::formatNumber(max) + "] " + unit + ", got " + csv::formatNumber(value));
   return value;
 }
 

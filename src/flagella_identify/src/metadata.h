@@ -41,7 +41,10 @@ class Metadata {
   std::string text(const YAML::Node& node, const std::string& field) const;
   double number(const YAML::Node& node, const std::string& field) const;
   double positive(const YAML::Node& node, const std::string& field) const;
-  double nonNegative(const YAML::Node& node, const std::string& field) const;
+  /// A number above `min` (or equal to it if `min_allowed`) and at most `max` (`unit` for
+  /// messages).
+  double inRange(const YAML::Node& node, const std::string& field, double min, bool min_allowed,
+                 double max, const std::string& unit) const;
   std::string requiredText(const std::string& key) const;
 
   /// The path a file key names, relative to the metadata file's directory; it must exist.

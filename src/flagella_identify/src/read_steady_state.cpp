@@ -30,8 +30,12 @@ SteadyStateTable tableFromMetadata(const Metadata& meta) {
   if (meta.has("description"))
     table.description = meta.text(meta.get("description"), "description");
   table.settle_time =
-      meta.has("settle_time_s") ? meta.positive(meta.get("settle_time_s"), "settle_time_s") : 10.0;
-  table.window = meta.has("window_s") ? meta.positive(meta.get("window_s"), "window_s") : 20.0;
+      meta.has("settle_time_s")
+          ? meta.inRange(meta.get("settle_time_s"), "settle_time_s", 0.0, false, kMaxTimeS, "s")
+          : 10.0;
+  table.window = meta.has("window_s")
+                     ? meta.inRange(meta.get("window_s"), "window_s", 0.0, false, kMaxTimeS, "s")
+                     : 20.0;
   table.overrides = meta.overrides();
   return table;
 }
@@ -94,14 +98,16 @@ SteadyStateRow readRow(const csv::Table& csv, const csv::Row& r, const TableColu
   row.line = r.line;
   if (columns.id >= 0) row.id = r.fields[columns.id];
   if (columns.time >= 0) {
-    const std::optional<double> t = cellNumber(csv, r, columns.time, true);
+    const std::optional<double> t = rangedNumber(csv, r, columns.time, true, 0.0, kMaxTimeS, "s");
     row.time = t ? *t : kMissing;
   }
-  if (columns.omega >= 0) row.omega_T = requiredNumber(csv, r, columns.omega) * kRadPerSecPerRpm;
+  if (columns.omega >= 0)
+    row.omega_T =
+        *rangedNumber(csv, r, columns.omega, false, -kMaxRpm, kMaxRpm, "rpm") * kRadPerSecPerRpm;
   for (int col : columns.overrides)
     if (!r.fields[col].empty()) row.overrides.emplace_back(csv.header[col], r.fields[col]);
   for (const auto& [col, m] : columns.measured) {
-    const std::optional<double> value = cellNumber(csv, r, col, true);
+    const std::optional<double> value = rangedNumber(csv, r, col, true, m->min, m->max, m->unit);
     row.measured[m->output] = value ? *value * m->to_si : kMissing;
   }
   return row;
@@ -113,6 +119,7 @@ SteadyStateTable readSteadyState(const Metadata& meta) {
   SteadyStateTable table = tableFromMetadata(meta);
   const std::map<std::string, double> noise = meta.noise(measuredColumnNames());
   const std::string csv_path = meta.filePath("csv");
+  table.csv = csv_path;
 
   const csv::Table csv = csv::read(csv_path);
   indexHeader(csv);  // duplicate and empty names

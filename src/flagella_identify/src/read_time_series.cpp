@@ -60,28 +60,37 @@ TimeSeries readSeriesCsv(const std::string& csv_path) {
   s.has_z = z_col >= 0;
   for (const csv::Row& r : csv.rows) {
     checkFieldCount(csv, r);
-    const double t = requiredNumber(csv, r, t_col);
+    const double t = *rangedNumber(csv, r, t_col, false, 0.0, kMaxTimeS, "s");
     if (!s.t.empty() && !(t > s.t.back()))
       throw DataError(csv.path, r.line, t_col + 1,
                       "column 't_s': time must be strictly increasing, got " +
                           csv::formatNumber(t) + " after " + csv::formatNumber(s.t.back()));
     s.t.push_back(t);
-    const double z = s.has_z ? requiredNumber(csv, r, z_col) * kMetresPerMm : kMissing;
-    s.position.emplace_back(requiredNumber(csv, r, col("x_mm")) * kMetresPerMm,
-                            requiredNumber(csv, r, col("y_mm")) * kMetresPerMm, z);
+    const auto length = [&](int c) {
+      return *rangedNumber(csv, r, c, false, -kMaxLengthMm, kMaxLengthMm, "mm") * kMetresPerMm;
+    };
+    const auto turns = [&](int c) {
+      return *rangedNumber(csv, r, c, false, -kMaxTurns, kMaxTurns, "turns");
+    };
+    const double z = s.has_z ? length(z_col) : kMissing;
+    s.position.emplace_back(length(col("x_mm")), length(col("y_mm")), z);
     if (has_q) {
       Eigen::Quaterniond q(requiredNumber(csv, r, col("qw")), requiredNumber(csv, r, col("qx")),
                            requiredNumber(csv, r, col("qy")), requiredNumber(csv, r, col("qz")));
       const double norm = q.norm();
-      if (!(norm > 1e-12))
+      if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance))
         throw DataError(csv.path, r.line, col("qw") + 1,
-                        "quaternion (qw, qx, qy, qz) has zero norm; expected a rotation");
+                        "quaternion (qw, qx, qy, qz) has norm " + csv::formatNumber(norm) +
+                            "; expected a unit quaternion (norm within " +
+                            csv::formatNumber(kQuaternionNormTolerance) + " of 1)");
       q.coeffs() /= norm;
       s.orientation.push_back(q);
     }
-    if (col("head_turns") >= 0) s.head_turns.push_back(requiredNumber(csv, r, col("head_turns")));
-    if (col("tail_turns") >= 0) s.tail_turns.push_back(requiredNumber(csv, r, col("tail_turns")));
-    s.omega_cmd.push_back(requiredNumber(csv, r, col("omega_T_rpm")) * kRadPerSecPerRpm);
+    if (col("head_turns") >= 0) s.head_turns.push_back(turns(col("head_turns")));
+    if (col("tail_turns") >= 0) s.tail_turns.push_back(turns(col("tail_turns")));
+    s.omega_cmd.push_back(
+        *rangedNumber(csv, r, col("omega_T_rpm"), false, -kMaxRpm, kMaxRpm, "rpm") *
+        kRadPerSecPerRpm);
   }
   if (static_cast<int>(s.t.size()) < kMinSamples)
     throw DataError(csv.path, csv.rows.empty() ? csv.header_line : csv.rows.back().line, 1,
@@ -153,9 +162,10 @@ TimeSeries readSeries(const Metadata& meta) {
         meta.fail(meta.keyNode(key), std::string(key) + " applies only to bag input (bag:)");
   const std::string description =
       meta.has("description") ? meta.text(meta.get("description"), "description") : "";
-  const double session_time = meta.has("session_time_s")
-                                  ? meta.nonNegative(meta.get("session_time_s"), "session_time_s")
-                                  : 0.0;
+  const double session_time =
+      meta.has("session_time_s")
+          ? meta.inRange(meta.get("session_time_s"), "session_time_s", 0.0, true, kMaxTimeS, "s")
+          : 0.0;
   std::vector<ConfigOverride> overrides = meta.overrides();
   const std::map<std::string, double> noise =
       meta.noise({"position_mm", "orientation_rad", "turns"});

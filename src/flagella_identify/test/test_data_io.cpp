@@ -162,9 +162,9 @@ TEST(DataIo, TimeSeriesIsConvertedToSi) {
   TempDir dir;
   dir.write("s.csv",
             "t_s,x_mm,y_mm,z_mm,qw,qx,qy,qz,head_turns,tail_turns,omega_T_rpm\n"
-            "0,1,2,3,2,0,0,0,0,0,60\n"
-            "0.5,10,-20,30,0,0,0,3,0.25,-0.5,120\n"
-            "1,100,200,-300,1,1,1,1,0.5,-1,-60\n");
+            "0,1,2,3,1,0,0,0,0,0,60\n"
+            "0.5,10,-20,30,0,0,0,1,0.25,-0.5,120\n"
+            "1,100,200,-300,0.5,0.5,0.5,0.5,0.5,-1,-60\n");
   const std::string yaml = dir.write("s.yaml",
                                      "kind: time_series\n"
                                      "csv: s.csv\n"
@@ -189,7 +189,7 @@ TEST(DataIo, TimeSeriesIsConvertedToSi) {
   EXPECT_NEAR((s.position[1] - Vec3(0.01, -0.02, 0.03)).norm(), 0.0, 1e-15);
   EXPECT_NEAR((s.position[2] - Vec3(0.1, 0.2, -0.3)).norm(), 0.0, 1e-15);
   ASSERT_EQ(s.orientation.size(), 3u);
-  EXPECT_DOUBLE_EQ(s.orientation[0].w(), 1.0);  // normalised
+  EXPECT_DOUBLE_EQ(s.orientation[0].w(), 1.0);
   EXPECT_DOUBLE_EQ(s.orientation[1].z(), 1.0);
   EXPECT_DOUBLE_EQ(s.orientation[2].x(), 0.5);
   EXPECT_EQ(s.head_turns, (std::vector<double>{0, 0.25, 0.5}));
@@ -455,7 +455,7 @@ TEST(DataIoErrors, NonPositiveWindowAndNonNumericSettleTime) {
   dir.write("t.csv", "omega_T_rpm,v_mm_s\n60,1\n");
   const std::string window =
       dir.write("w.yaml", "kind: steady_state\ncsv: t.csv\nwindow_s: 0\nnoise: {v_mm_s: 1}\n");
-  EXPECT_EQ(readError(window), window + ":3:11: window_s must be > 0, got 0");
+  EXPECT_EQ(readError(window), window + ":3:11: window_s must be in (0, 1000000] s, got 0");
   const std::string settle = dir.write(
       "s.yaml", "kind: steady_state\ncsv: t.csv\nsettle_time_s: ten\nnoise: {v_mm_s: 1}\n");
   EXPECT_EQ(readError(settle), settle + ":3:16: settle_time_s: expected a number, got 'ten'");
@@ -578,7 +578,7 @@ TEST(DataIoErrors, ZeroNormQuaternion) {
                                     "1,0,0,1,0,0,0,0\n"
                                     "2,0,0,1,0,0,0,1\n");
   const std::string yaml = dir.write("s.yaml", kSeriesYaml);
-  EXPECT_TRUE(startsWith(readError(yaml), csv + ":3:8: quaternion (qw, qx, qy, qz) has zero norm"));
+  EXPECT_TRUE(startsWith(readError(yaml), csv + ":3:8: quaternion (qw, qx, qy, qz) has norm 0;"));
 }
 
 TEST(DataIoErrors, IncompleteQuaternionGroup) {
@@ -663,6 +663,60 @@ TEST(DataIoErrors, NoMeasuredColumnOrNoRows) {
   EXPECT_TRUE(startsWith(readError(yaml), csv + ":1:1: no measured column"));
   dir.write("t.csv", "# c\nomega_T_rpm,v_mm_s\n");
   EXPECT_EQ(readError(yaml), csv + ":2:1: no data rows after the header");
+}
+
+// Values no measurement can take (issue: accepted, then Newton failed 16 s into the fit).
+TEST(DataIoErrors, ImplausibleTableValues) {
+  TempDir dir;
+  const std::string csv = dir.write("t.csv", "omega_T_rpm,v_mm_s,omega_h_rpm\n60,1e308,2\n");
+  const std::string yaml = dir.write("t.yaml", kTableYaml);
+  EXPECT_EQ(readError(yaml), csv +
+                                 ":2:2: column 'v_mm_s': 1e+308 mm/s is outside the plausible "
+                                 "range [-10000, 10000] mm/s");
+  dir.write("t.csv", "omega_T_rpm,v_mm_s,omega_h_rpm\n-1e308,1,2\n");
+  EXPECT_TRUE(startsWith(readError(yaml), csv + ":2:1: column 'omega_T_rpm': -1e+308 rpm is "
+                                                "outside the plausible range"));
+  dir.write("t.csv", "time_s,omega_T_rpm,v_mm_s\n-5,60,1\n");
+  EXPECT_TRUE(startsWith(readError(yaml), csv + ":2:1: column 'time_s': -5 s is outside"));
+  // The ends of the ranges are accepted.
+  dir.write("t.csv", "time_s,omega_T_rpm,v_mm_s\n0,10000,-10000\n");
+  EXPECT_NO_THROW(readMeasuredData(yaml));
+}
+
+TEST(DataIoErrors, ImplausibleSeriesValues) {
+  TempDir dir;
+  const std::string yaml = dir.write("s.yaml", kSeriesYaml);
+  const std::string csv =
+      dir.write("s.csv", "t_s,x_mm,y_mm,omega_T_rpm\n-1,0,0,1\n0,0,0,1\n1,0,0,1\n");
+  EXPECT_EQ(readError(yaml),
+            csv + ":2:1: column 't_s': -1 s is outside the plausible range [0, 1000000] s");
+  dir.write("s.csv", "t_s,x_mm,y_mm,omega_T_rpm\n0,0,0,1\n1,-1e308,0,1\n2,0,0,1\n");
+  EXPECT_TRUE(startsWith(readError(yaml), csv + ":3:2: column 'x_mm': -1e+308 mm is outside"));
+  dir.write("s.csv", "t_s,x_mm,y_mm,omega_T_rpm,tail_turns\n0,0,0,1,0\n1,0,0,1,2e9\n2,0,0,1,0\n");
+  EXPECT_TRUE(startsWith(readError(yaml), csv + ":3:5: column 'tail_turns': 2000000000 turns"));
+  const std::string late =
+      dir.write("l.yaml", std::string(kSeriesYaml) + "session_time_s: 1e308\n");
+  dir.write("s.csv", "t_s,x_mm,y_mm,omega_T_rpm\n0,0,0,1\n1,0,0,1\n2,0,0,1\n");
+  EXPECT_EQ(readError(late), late + ":7:17: session_time_s must be in [0, 1000000] s, got 1e+308");
+}
+
+TEST(DataIoErrors, NonUnitQuaternion) {
+  TempDir dir;
+  const std::string yaml = dir.write("s.yaml", kSeriesYaml);
+  const std::string csv = dir.write("s.csv",
+                                    "t_s,x_mm,y_mm,omega_T_rpm,qw,qx,qy,qz\n"
+                                    "0,0,0,1,1,0,0,0\n"
+                                    "1,0,0,1,2,0,0,0\n"
+                                    "2,0,0,1,1,0,0,0\n");
+  EXPECT_EQ(readError(yaml), csv +
+                                 ":3:5: quaternion (qw, qx, qy, qz) has norm 2; expected a unit "
+                                 "quaternion (norm within 0.001 of 1)");
+  // Rounding of a unit quaternion to four decimals is within the tolerance, and normalised.
+  dir.write("s.csv",
+            "t_s,x_mm,y_mm,omega_T_rpm,qw,qx,qy,qz\n"
+            "0,0,0,1,0.7071,0.7071,0,0\n1,0,0,1,1,0,0,0\n2,0,0,1,1,0,0,0\n");
+  const MeasuredData data = readMeasuredData(yaml);
+  EXPECT_NEAR(data.series.at(0).orientation.at(0).norm(), 1.0, 1e-12);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "flagella_identify/discovery_cases.h"
 #include "flagella_identify/identify.h"
 #include "flagella_identify/model.h"
+#include "flagella_sim/runtime/tool_main.h"
 
 using namespace flagella;
 using namespace flagella::identify;
@@ -41,10 +42,10 @@ int main(int argc, char** argv) {
   app.add_option("--jobs", jobs)->capture_default_str();
   app.add_option("--config", config)->capture_default_str();
   app.add_flag("--verbose", verbose, "progress of every identification");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
   if (cases.empty())
     for (const DiscoveryCase& c : discoveryCases()) cases.push_back(c.name);
-  try {
+  return flagella::cli::runGuarded([&] {
     const YAML::Node baseline = loadConfigTree(config, {});
     struct Tally {
       int runs = 0, correct = 0;
@@ -95,9 +96,6 @@ int main(int argc, char** argv) {
                     " %";
       std::printf("| %s | %d | %d | %s |\n", name.c_str(), t.runs, t.correct, gain.c_str());
     }
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

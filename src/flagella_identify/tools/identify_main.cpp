@@ -16,6 +16,7 @@
 #include "flagella_identify/report.h"
 #include "flagella_sim/runtime/distributed_for.h"
 #include "flagella_sim/runtime/parallel_for.h"
+#include "flagella_sim/runtime/tool_main.h"
 
 using namespace flagella;
 using namespace flagella::identify;
@@ -98,7 +99,7 @@ int main(int argc, char** argv) {
                "candidates): writes calibration.json, calibration.md, calibrated_config.yaml");
   app.add_flag("--no-plot", no_plot, "do not draw report.png");
   app.add_flag("--quiet", quiet, "no progress output");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
   // Under mpirun every rank runs the same fit, its model runs spread over the ranks
   // (distributed_for.h); rank 0 reports, the others write into a scratch folder, removed at exit.
   const flagella::MpiScope mpi;
@@ -117,7 +118,7 @@ int main(int argc, char** argv) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::cout << "[" << std::fixed << std::setprecision(1) << s << " s] " << line << std::endl;
   };
-  try {
+  return flagella::cli::runGuarded([&] {
     enableBagInput();
     MeasuredData data = readMeasuredData(data_files);
     const YAML::Node baseline = loadConfigTree(config, overrides);
@@ -156,12 +157,6 @@ int main(int argc, char** argv) {
     }
     std::cout << "\nverdict: " << verdictText(result.verdict) << "\n" << result.summary << "\n";
     for (const std::string& f : files) std::cout << "wrote " << f << "\n";
-  } catch (const ConfigError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

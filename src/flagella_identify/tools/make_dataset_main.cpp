@@ -5,6 +5,7 @@
 
 #include "flagella_identify/discovery_cases.h"
 #include "flagella_identify/model.h"
+#include "flagella_sim/runtime/tool_main.h"
 
 using namespace flagella;
 using namespace flagella::identify;
@@ -20,8 +21,8 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "draws the truth and the noise")->capture_default_str();
   app.add_option("--config", config, "baseline robot config")->capture_default_str();
   app.add_option("--out", out, "metadata YAML to write (the CSV goes next to it)")->required();
-  CLI11_PARSE(app, argc, argv);
-  try {
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
+  return flagella::cli::runGuarded([&] {
     const YAML::Node baseline = loadConfigTree(config, {});
     const GeneratedCase g = generateCase(discoveryCaseByName(case_name), baseline, config, seed);
     // The data must not give the hidden truth away: it is printed, not stored.
@@ -39,9 +40,6 @@ int main(int argc, char** argv) {
     }
     std::cout << "wrote " << out << " and " << csvPathForMetadata(out)
               << "\ntruth: " << g.description << "\n";
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  }
-  return 0;
+    return 0;
+  });
 }

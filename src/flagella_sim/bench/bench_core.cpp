@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "flagella_sim/outputs/fits.h"
+#include "flagella_sim/runtime/tool_main.h"
 #include "flagella_sim/simulation/simulation.h"
 
 using namespace flagella;
@@ -144,11 +145,9 @@ int main(int argc, char** argv) {
   std::string config_dir = "config";
   app.add_option("config_dir", config_dir, "folder holding the shipped configs")
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
-  try {
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
+  return flagella::cli::runGuarded([&] {
     return run(config_dir);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
-  }
+    return 0;
+  });
 }

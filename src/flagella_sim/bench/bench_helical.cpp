@@ -18,6 +18,7 @@
 #include "flagella_sim/elastic/stretching_energy.h"
 #include "flagella_sim/hydro/rss_solver.h"
 #include "flagella_sim/outputs/fits.h"
+#include "flagella_sim/runtime/tool_main.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/solver/dense_newton_system.h"
 
@@ -193,11 +194,9 @@ int main(int argc, char** argv) {
   app.add_option("config_dir", config_dir, "folder holding helical_robot.yaml")
       ->capture_default_str();
   app.add_flag("--quick", quick, "fewer steps and a 4 s accuracy run");
-  CLI11_PARSE(app, argc, argv);
-  try {
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
+  return flagella::cli::runGuarded([&] {
     return run(config_dir, quick);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
-  }
+    return 0;
+  });
 }

@@ -8,6 +8,7 @@
 #include <array>
 #include <atomic>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -177,10 +178,29 @@ TEST_F(FlagellaRun, ARunIntoTheSameFolderLeavesNoStaleFile) {
   ASSERT_TRUE(fs::exists(out.path() / "nodes.csv"));
   const CommandResult second = runTool(args);
   ASSERT_EQ(second.exit_code, kExitOk) << second.output;
-  EXPECT_TRUE(contains(second.output, "replacing the previous run")) << second.output;
+  EXPECT_TRUE(contains(second.output, "replaced the previous run")) << second.output;
   EXPECT_FALSE(fs::exists(out.path() / "nodes.csv"));
   EXPECT_TRUE(fs::exists(out.path() / "timeseries.csv"));
   EXPECT_TRUE(fs::exists(out.path() / "summary.json"));
+}
+
+TEST_F(FlagellaRun, AnInterruptedRunLeavesThePreviousOutputs) {
+  // A finished run, then one killed (SIGKILL) in the middle: the first run's files are there
+  // byte for byte, and the next run clears the killed run's staging folder.
+  const TempDir out;
+  const std::string into = " --out " + shellQuote(out.path().string()) + " --quiet";
+  ASSERT_EQ(runTool("run " + design1_ + " --duration 0.2" + into).exit_code, kExitOk);
+  const std::string before = testing::readTextFile((out.path() / "timeseries.csv").string());
+  const std::string summary = testing::readTextFile((out.path() / "summary.json").string());
+  const std::string killed = "timeout -s KILL 2 " + shellQuote(kRunExe) + " run " + design1_ +
+                             " --duration 100000" + into + " > /dev/null 2>&1";
+  EXPECT_NE(std::system(killed.c_str()), 0);
+  EXPECT_TRUE(fs::exists(out.path() / ".run.partial"));  // it was killed while running
+  EXPECT_EQ(testing::readTextFile((out.path() / "timeseries.csv").string()), before);
+  EXPECT_EQ(testing::readTextFile((out.path() / "summary.json").string()), summary);
+  ASSERT_EQ(runTool("run " + design1_ + " --duration 0.1" + into).exit_code, kExitOk);
+  EXPECT_FALSE(fs::exists(out.path() / ".run.partial"));
+  EXPECT_NE(testing::readTextFile((out.path() / "timeseries.csv").string()), before);
 }
 
 TEST_F(FlagellaRun, AStepLongerThanTheOutputIntervalNamesTheStep) {

@@ -17,6 +17,7 @@
 #include "flagella_sim/runtime/distributed_for.h"
 #include "flagella_sim/runtime/exact_json.h"
 #include "flagella_sim/runtime/parallel_for.h"
+#include "flagella_sim/runtime/tool_main.h"
 #include "plot_command.h"
 
 namespace {
@@ -291,22 +292,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(2, 20))
       ->capture_default_str();
   app.add_flag("--quiet", o.quiet, "no progress lines");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  }
-  try {
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
+  return flagella::cli::runGuarded([&] {
     flagella::validate(o.search);
     return o.sweep.empty() ? single(o) : sweep(o);
-  } catch (const std::invalid_argument& e) {  // ConfigError included
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 3;
-  }
+  });
 }

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "flagella_sim/hydro/rigid_helix.h"
+#include "flagella_sim/runtime/tool_main.h"
 
 namespace {
 
@@ -135,16 +136,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   res->add_option("--json", o.json, "also write the results to this JSON file");
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  }
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
   try {
     if (res->count("--eps") > 0) o.spec.eps = o.eps;
     if (res->count("--edge-length") > 0) o.spec.edge_length = o.edge_length;

@@ -7,6 +7,7 @@
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/runtime/distributed_for.h"
 #include "flagella_sim/runtime/parallel_for.h"
+#include "flagella_sim/runtime/tool_main.h"
 #include "flagella_sim/solver/implicit_stepper.h"
 #include "run_commands.h"
 
@@ -114,8 +115,8 @@ int main(int argc, char** argv) {
       app.add_subcommand("effects", "list every effect a config can switch on, with its schema");
   effects_cmd->add_flag("--markdown", effects_markdown, "print the README's effect table");
 
-  CLI11_PARSE(app, argc, argv);
-  try {
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
+  return flagella::cli::runGuarded([&] {
     if (*run_cmd) {
       run_short.apply(run_cmd, run.overrides);
       return runCommand(run);
@@ -130,15 +131,6 @@ int main(int argc, char** argv) {
     }
     if (*params_cmd) return paramsCommand(params);
     if (*effects_cmd) return effectsCommand(effects_markdown);
-  } catch (const flagella::ConfigError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const flagella::SolverFailure& e) {
-    std::cerr << "error: solver failure: " << e.what() << "\n";
-    return 3;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

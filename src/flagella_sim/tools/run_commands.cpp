@@ -10,6 +10,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
 
 #include "flagella_sim/beam/euler_bernoulli_beam.h"
 #include "flagella_sim/core/units.h"
@@ -169,25 +170,56 @@ constexpr char kNodesFile[] = "nodes.csv";
 constexpr char kSummaryFile[] = "summary.json";
 constexpr char kPlotFile[] = "run.png";
 
-// Removes a previous run's outputs from the folder (said on stderr), so none is left stale:
-// nodes.csv of an earlier --nodes run, or everything of a run that this one will not reach.
-void clearPreviousRun(const std::string& out_dir) {
-  std::string removed;
-  for (const char* name : {kTimeseriesFile, kNodesFile, kSummaryFile, kPlotFile}) {
-    const std::filesystem::path file = std::filesystem::path(out_dir) / name;
-    if (std::filesystem::remove(file)) removed += (removed.empty() ? "" : ", ") + std::string(name);
+// The run's outputs are written into a staging folder inside the output folder and moved over
+// the previous run's files only when the run has ended (also by a solver failure, whose outputs
+// hold the run up to it): an interrupted or refused run leaves the previous outputs as they were.
+constexpr char kStagingFolder[] = ".run.partial";
+
+/// Removes the staging folder when a run ends by an exception before its outputs are moved.
+class StagingGuard {
+ public:
+  explicit StagingGuard(std::filesystem::path path) : path_(std::move(path)) {}
+  ~StagingGuard() {
+    std::error_code ignored;
+    if (!path_.empty()) std::filesystem::remove_all(path_, ignored);
   }
-  if (!removed.empty())
-    std::fprintf(stderr, "replacing the previous run in %s/ (removed %s)\n", out_dir.c_str(),
-                 removed.c_str());
+  StagingGuard(const StagingGuard&) = delete;
+  StagingGuard& operator=(const StagingGuard&) = delete;
+  void release() { path_.clear(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+/// Moves the staged outputs into `out_dir`, replacing the previous run's (said on stderr) and
+/// removing those this run did not write (nodes.csv of an earlier --nodes run, a plot that
+/// failed), so nothing stale is left beside them; then removes the staging folder.
+void publishRun(const std::filesystem::path& staging, const std::filesystem::path& out_dir) {
+  std::string replaced;
+  for (const char* name : {kTimeseriesFile, kNodesFile, kSummaryFile, kPlotFile}) {
+    const std::filesystem::path target = out_dir / name;
+    if (std::filesystem::exists(target))
+      replaced += (replaced.empty() ? "" : ", ") + std::string(name);
+    if (std::filesystem::exists(staging / name))
+      std::filesystem::rename(staging / name, target);  // atomic per file
+    else
+      std::filesystem::remove(target);
+  }
+  std::filesystem::remove_all(staging);
+  if (!replaced.empty())
+    std::fprintf(stderr, "replaced the previous run in %s/ (%s)\n", out_dir.c_str(),
+                 replaced.c_str());
 }
 
 }  // namespace
 
 int runCommand(const RunOptions& o) {
   const SimulationConfig config = loadSimulationConfig(o.config, o.overrides);
-  std::filesystem::create_directories(o.out_dir);
-  clearPreviousRun(o.out_dir);
+  const std::filesystem::path staging = std::filesystem::path(o.out_dir) / kStagingFolder;
+  std::filesystem::remove_all(staging);  // left by an interrupted run
+  std::filesystem::create_directories(staging);
+  const std::string staged = staging.string() + "/";
+  StagingGuard staging_guard(staging);
   Simulation sim(config);
   sim.setRecordNodes(o.nodes);
   if (!o.quiet)
@@ -195,14 +227,17 @@ int runCommand(const RunOptions& o) {
                  o.config.c_str(), sim.network().numNodes(), sim.network().ndof(), config.dt,
                  config.duration);
   const RunResult r = simulate(config, sim, o.quiet);
-  writeTrajectoryCsv(o.out_dir + "/" + kTimeseriesFile, sim.trajectory());
-  if (o.nodes) writeNodesCsv(o.out_dir + "/" + kNodesFile, sim.trajectory());
-  writeText(o.out_dir + "/" + kSummaryFile, summaryJson(config, r.summary, r.wall));
+  writeTrajectoryCsv(staged + kTimeseriesFile, sim.trajectory());
+  if (o.nodes) writeNodesCsv(staged + kNodesFile, sim.trajectory());
+  writeText(staged + kSummaryFile, summaryJson(config, r.summary, r.wall));
   printSummary(config, r.summary, std::cout);
   std::printf("  wall time %.2f s, %.1fx real time; outputs in %s/\n", r.wall,
               r.wall > 0 ? sim.time() / r.wall : 0.0, o.out_dir.c_str());
   std::fflush(stdout);
-  plotTable(o.plot_script, o.out_dir + "/" + kTimeseriesFile, o.out_dir + "/" + kPlotFile, "plot");
+  plotTable(o.plot_script, staged + kTimeseriesFile, staged + kPlotFile, "plot",
+            o.out_dir + "/" + kPlotFile);
+  publishRun(staging, o.out_dir);
+  staging_guard.release();
   if (r.failed) {
     std::fprintf(stderr, "error: solver failure, outputs hold the run up to t = %.3f s: %s\n",
                  sim.time(), r.error.c_str());

@@ -10,6 +10,7 @@
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/runtime/distributed_for.h"
 #include "flagella_sim/runtime/parallel_for.h"
+#include "flagella_sim/runtime/tool_main.h"
 #include "flagella_sweep/backends.h"
 #include "flagella_sweep/point_runner.h"
 #include "flagella_sweep/sweep_spec.h"
@@ -200,16 +201,11 @@ int main(int argc, char** argv) {
                   "summary key to plot (repeatable; default: a few numeric ones)");
   }
   run->add_flag("--quiet", o.quiet, "no progress lines");
-  CLI11_PARSE(app, argc, argv);
-  try {
+  if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
+  return flagella::cli::runGuarded([&] {
     if (run->parsed()) return runCommand(o);
     if (point->parsed()) return runPointCommand(o);
     return collectCommand(o);
-  } catch (const flagella::ConfigError& e) {
-    std::fprintf(stderr, "flagella_sweep: error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "flagella_sweep: error: %s\n", e.what());
-    return 1;
-  }
+    return 0;
+  });
 }

@@ -32,6 +32,9 @@ struct Candidate {
   /// the run's overrides applied already (n_tails etc.); `session_time` is the run's start.
   std::function<void(YAML::Node& config, const std::vector<double>& values, double session_time)>
       apply;
+  /// The config paths `apply` writes ("effects.granular_yield" for a whole section): data may
+  /// not override them while the candidate is fitted (check_overrides.h).
+  std::vector<std::string> writes;
   /// Realistic strengths for hidden-effect test data, drawn in this order (names as in
   /// `variables`); fabrication asymmetry draws its own (one tail shorter, or one stiffer).
   std::vector<TypicalStrength> typical;

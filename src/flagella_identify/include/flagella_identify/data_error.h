@@ -11,7 +11,8 @@ namespace identify {
 
 class DataError : public ConfigError {
  public:
-  /// `line` and `column` are 1-based; pass 0 for both when no position applies. For CSV cells
+  /// `line` and `column` are 1-based; pass 0 for both when no position applies, 0 for the
+  /// column when the message is about a whole line. For CSV cells
   /// the column is the 1-based field index, for YAML the column of the mark.
   DataError(const std::string& file, int line, int column, const std::string& message)
       : ConfigError(location(file, line, column) + message),
@@ -26,9 +27,11 @@ class DataError : public ConfigError {
   /// The message without the position prefix.
   const std::string& message() const { return message_; }
 
-  /// "file:line:column: ", or "file: " when line and column are both 0.
+  /// "file:line:column: ", "file:line: " when the column is 0 (a whole row), or "file: " when
+  /// line and column are both 0.
   static std::string location(const std::string& file, int line, int column) {
     if (line <= 0 && column <= 0) return file + ": ";
+    if (column <= 0) return file + ":" + std::to_string(line) + ": ";
     return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
   }
 

@@ -38,6 +38,7 @@ struct SteadyStateRow {
 
 struct SteadyStateTable {
   std::string source;                     ///< metadata file path
+  std::string csv;                        ///< the CSV file it names (for messages; may be empty)
   std::string description;                ///< free text from the metadata
   double settle_time = 0.0;               ///< time the robot ran before the measurement window [s]
   double window = 0.0;                    ///< length of the measurement window [s]

@@ -22,15 +22,11 @@
 #include "flagella_sim/rod/rod_state.h"
 #include "flagella_sim/solver/dense_newton_system.h"
 #include "flagella_sim/solver/newton_options.h"
+#include "flagella_sim/solver/solver_failure.h"
 #include "flagella_sim/solver/sparse_lu_solver.h"
 #include "flagella_sim/solver/step_profile.h"
 
 namespace flagella {
-
-class SolverFailure : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct StepReport {
   int newton_iterations = 0;  ///< summed over sub-steps
@@ -126,7 +122,7 @@ class ImplicitStepper {
   DenseNewtonSystem dense_system_;
   int factorizations_ = 0;
   int analyses_ = 0;
-  VecX previous_iterate_;  ///< to undo a chord update that raised the residual
+  VecX previous_iterate_;                  ///< to undo a chord update that raised the residual
   ReferenceFrames frames_, trial_frames_;  ///< of the iterate and of a line-search trial
   /// The last accepted (sub)step's start and end rates, for the second-order predictor.
   struct PredictorHistory {
