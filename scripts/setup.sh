@@ -7,6 +7,8 @@ PACKAGES=(
   build-essential cmake catkin python3-catkin-pkg
   libeigen3-dev libceres-dev libboost-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libsuitesparse-dev libopenblas-dev
   libgtest-dev googletest libbenchmark-dev
+  # the readers' fuzz targets (fuzz/, scripts/fuzz.sh): clang's libFuzzer and sanitizers
+  clang libclang-rt-14-dev
   python3-matplotlib python3-numpy
   # sweeps beyond one machine: the mpi backend of flagella_sweep
   openmpi-bin libopenmpi-dev

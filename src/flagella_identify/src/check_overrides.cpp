@@ -5,6 +5,7 @@
 
 #include "flagella_identify/candidates.h"
 #include "flagella_identify/data_error.h"
+#include "flagella_sim/core/text_lists.h"
 #include "flagella_sim/core/yaml_fields.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
@@ -34,7 +35,8 @@ void rejectFitted(const std::vector<ConfigOverride>& overrides, const FittedName
                   const std::string& file, int line, const std::string& what) {
   for (const auto& [name, value] : overrides) {
     const std::string conflict = fittedConflict(name, fitted);
-    if (!conflict.empty()) throw DataError(file, line, 0, what + " '" + name + "' " + conflict);
+    if (!conflict.empty())
+      throw DataError(file, line, 0, what + " '" + abbreviated(name) + "' " + conflict);
   }
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "data_io_internal.h"
+#include "flagella_sim/core/text_lists.h"
 #include "text_format.h"
 
 namespace flagella {
@@ -17,9 +18,9 @@ std::map<std::string, int> indexHeader(const csv::Table& table) {
     if (name.empty()) throw DataError(table.path, table.header_line, column, "empty column name");
     const auto [it, inserted] = index.emplace(name, column - 1);
     if (!inserted)
-      throw DataError(
-          table.path, table.header_line, column,
-          "duplicate column '" + name + "' (also column " + std::to_string(it->second + 1) + ")");
+      throw DataError(table.path, table.header_line, column,
+                      "duplicate column '" + abbreviated(name) + "' (also column " +
+                          std::to_string(it->second + 1) + ")");
   }
   return index;
 }
@@ -41,15 +42,17 @@ std::optional<double> cellNumber(const csv::Table& table, const csv::Row& row, i
   if (text.empty()) {
     if (optional) return std::nullopt;
     throw DataError(table.path, row.line, index + 1,
-                    "column '" + name + "': expected a number, got an empty cell");
+                    "column '" + abbreviated(name) + "': expected a number, got an empty cell");
   }
   const std::optional<double> value = csv::parseNumber(text);
   if (!value)
-    throw DataError(table.path, row.line, index + 1,
-                    "column '" + name + "': expected a number, got '" + text + "'");
+    throw DataError(
+        table.path, row.line, index + 1,
+        "column '" + abbreviated(name) + "': expected a number, got '" + abbreviated(text) + "'");
   if (!std::isfinite(*value))
     throw DataError(table.path, row.line, index + 1,
-                    "column '" + name + "': expected a finite number, got '" + text + "'");
+                    "column '" + abbreviated(name) + "': expected a finite number, got '" +
+                        abbreviated(text) + "'");
   return value;
 }
 
@@ -62,16 +65,17 @@ std::optional<double> rangedNumber(const csv::Table& table, const csv::Row& row,
   const std::optional<double> value = cellNumber(table, row, index, optional);
   if (value && !(*value >= min && *value <= max))
     throw DataError(table.path, row.line, index + 1,
-                    "column '" + table.header[index] + "': " + csv::formatNumber(*value) + " " +
-                        unit + " is outside the plausible range [" + csv::formatNumber(min) + ", " +
+                    "column '" + abbreviated(table.header[index]) +
+                        "': " + csv::formatNumber(*value) + " " + unit +
+                        " is outside the plausible range [" + csv::formatNumber(min) + ", " +
                         csv::formatNumber(max) + "] " + unit);
   return value;
 }
 
 void missingColumn(const csv::Table& table, const std::string& name) {
-  throw DataError(
-      table.path, table.header_line, 1,
-      "missing required column '" + name + "' (header has: " + joined(table.header, ", ") + ")");
+  throw DataError(table.path, table.header_line, 1,
+                  "missing required column '" + name + "' (header has: " +
+                      abbreviated(joined(table.header, ", "), kMaxListedText) + ")");
 }
 
 }  // namespace data_io

@@ -2,6 +2,7 @@
 #include <algorithm>
 
 #include "data_io_internal.h"
+#include "flagella_sim/core/text_lists.h"
 #include "text_format.h"
 
 namespace flagella {
@@ -48,7 +49,7 @@ std::string overrideNameProblem(const std::string& name) {
     return "must look like section.field";
   const std::string section = name.substr(0, dot);
   if (!contains(overrideSections(), section))
-    return "addresses an unknown config section '" + section +
+    return "addresses an unknown config section '" + abbreviated(section) +
            "' (allowed: " + joined(overrideSections(), ", ") + ")";
   return "";
 }

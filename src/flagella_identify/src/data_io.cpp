@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "data_io_internal.h"
+#include "flagella_sim/core/text_lists.h"
 #include "metadata.h"
 
 namespace flagella {
@@ -27,7 +28,8 @@ MeasuredData readMeasuredData(const std::string& metadata_yaml_path) {
   else if (kind == "time_series")
     data.series.push_back(data_io::readSeries(meta));
   else
-    meta.fail(kind_node, "kind: expected steady_state or time_series, got '" + kind + "'");
+    meta.fail(kind_node,
+              "kind: expected steady_state or time_series, got '" + abbreviated(kind) + "'");
   return data;
 }
 

@@ -33,6 +33,10 @@ struct MeasuredColumn {
   const char* unit;
 };
 
+/// Longest user text a message quotes whole where it is a list or a path (names and values are
+/// cut at abbreviated()'s 60 characters).
+constexpr size_t kMaxListedText = 300;
+
 /// Plausible ranges of measured and commanded values, in file units (README, measured data): far
 /// beyond any palm-sized robot, so they only catch values that cannot be measurements (1e308, a
 /// negative time, a unit mix-up by orders of magnitude).

@@ -8,6 +8,7 @@
 
 #include "data_io_internal.h"
 #include "flagella_sim/core/strict_yaml.h"
+#include "flagella_sim/core/text_lists.h"
 #include "text_format.h"
 
 namespace flagella {
@@ -34,7 +35,8 @@ void Metadata::rejectUnknownKeys(const YAML::Node& map, const std::string& prefi
   for (const auto& kv : map) {
     const std::string key = keyText(kv.first, prefix);
     if (!contains(allowed, key))
-      fail(kv.first, "unknown key '" + prefix + key + "' (allowed: " + joined(allowed, ", ") + ")");
+      fail(kv.first, "unknown key '" + prefix + abbreviated(key) +
+                         "' (allowed: " + joined(allowed, ", ") + ")");
   }
 }
 
@@ -64,9 +66,9 @@ std::string Metadata::text(const YAML::Node& node, const std::string& field) con
 double Metadata::number(const YAML::Node& node, const std::string& field) const {
   if (!node.IsScalar()) fail(node, field + ": expected a number");
   const std::optional<double> value = csv::parseNumber(node.Scalar());
-  if (!value) fail(node, field + ": expected a number, got '" + node.Scalar() + "'");
+  if (!value) fail(node, field + ": expected a number, got '" + abbreviated(node.Scalar()) + "'");
   if (!std::isfinite(*value))
-    fail(node, field + ": expected a finite number, got '" + node.Scalar() + "'");
+    fail(node, field + ": expected a finite number, got '" + abbreviated(node.Scalar()) + "'");
   return *value;
 }
 
@@ -99,7 +101,7 @@ std::string Metadata::filePath(const std::string& key) const {
   if (path.is_relative()) path = fs::path(file_).parent_path() / path;
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
-    fail(get(key), key + ": cannot open '" + path.string() + "' (" +
+    fail(get(key), key + ": cannot open '" + abbreviated(path.string(), kMaxListedText) + "' (" +
                        (fs::exists(path, ec) ? "not a regular file" : "no such file") +
                        "; paths are relative to the metadata file's directory)");
   return path.string();
@@ -113,10 +115,10 @@ std::vector<ConfigOverride> Metadata::overrides() const {
   for (const auto& kv : node) {
     const std::string name = keyText(kv.first, "overrides");
     const std::string problem = overrideNameProblem(name);
-    if (!problem.empty()) fail(kv.first, "override '" + name + "' " + problem);
+    if (!problem.empty()) fail(kv.first, "override '" + abbreviated(name) + "' " + problem);
     const YAML::Node& value = kv.second;
     if (!value.IsDefined() || value.IsNull())
-      fail(kv.first, "override '" + name + "' has no value");
+      fail(kv.first, "override '" + abbreviated(name) + "' has no value");
     if (value.IsScalar()) {
       out.emplace_back(name, value.Scalar());
     } else {

@@ -2,6 +2,7 @@
 #include <utility>
 
 #include "data_io_internal.h"
+#include "flagella_sim/core/text_lists.h"
 #include "metadata.h"
 #include "text_format.h"
 
@@ -58,11 +59,12 @@ TableColumns classifyColumns(const csv::Table& csv) {
       const std::string problem = overrideNameProblem(name);
       if (!problem.empty())
         throw DataError(csv.path, csv.header_line, col + 1,
-                        "override column '" + name + "' " + problem);
+                        "override column '" + abbreviated(name) + "' " + problem);
       columns.overrides.push_back(col);
     } else {
       throw DataError(csv.path, csv.header_line, col + 1,
-                      "unknown column '" + name + "' (allowed: id, time_s, omega_T_rpm, " +
+                      "unknown column '" + abbreviated(name) +
+                          "' (allowed: id, time_s, omega_T_rpm, " +
                           joined(measuredColumnNames(), ", ") +
                           ", or a config override 'section.field' with section one of " +
                           joined(overrideSections(), ", ") + ")");

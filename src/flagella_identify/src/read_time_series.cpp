@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "data_io_internal.h"
+#include "flagella_sim/core/text_lists.h"
 #include "metadata.h"
 #include "text_format.h"
 
@@ -30,9 +31,9 @@ TimeSeries readSeriesCsv(const std::string& csv_path) {
                                                    "head_turns", "tail_turns", "omega_T_rpm"};
   for (size_t i = 0; i < csv.header.size(); ++i)
     if (!contains(allowed, csv.header[i]))
-      throw DataError(
-          csv.path, csv.header_line, static_cast<int>(i) + 1,
-          "unknown column '" + csv.header[i] + "' (allowed: " + joined(allowed, ", ") + ")");
+      throw DataError(csv.path, csv.header_line, static_cast<int>(i) + 1,
+                      "unknown column '" + abbreviated(csv.header[i]) +
+                          "' (allowed: " + joined(allowed, ", ") + ")");
   const auto col = [&](const std::string& name) {
     const auto it = index.find(name);
     return it == index.end() ? -1 : it->second;
@@ -122,7 +123,8 @@ BagOptions bagOptions(const Metadata& meta) {
     else if (value == "camera_fix")
       options.position = BagOptions::Position::kCameraFix;
     else
-      meta.fail(node, "bag_position: expected rod_state or camera_fix, got '" + value + "'");
+      meta.fail(node,
+                "bag_position: expected rod_state or camera_fix, got '" + abbreviated(value) + "'");
   }
   return options;
 }

@@ -556,6 +556,50 @@ TEST(Overrides, HugeValuesAreQuotedAbbreviated) {
   EXPECT_TRUE(contains(msg, "motor.mode must be one of: constant, binary")) << msg.substr(0, 600);
 }
 
+TEST(Overrides, HugeKeysAreQuotedAbbreviated) {
+  // Unknown keys and override paths were quoted whole (a 100 kB message, which fuzz/fuzz_config
+  // rejects); like values they are abbreviated, still under their dotted field.
+  const std::string huge(100000, 'k');
+  const TempDir dir;
+  ConfigSections in_robot;
+  in_robot.robot += "  ? " + huge + "\n  : 1\n";
+  ConfigSections in_effect;
+  in_effect.effects += "    ? " + huge + "\n    : 1\n";
+  ConfigSections effect;
+  effect.effects += "  ? " + huge + "\n  : {}\n";
+  ConfigSections in_profile;
+  in_profile.medium += "  interface_profile:\n    ? " + huge + "\n    : 1\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {in_robot.text(), "unknown field 'robot.kkk"},
+      {in_effect.text(), "unknown parameter 'effects.stokes_head.kkk"},
+      {effect.text(), "unknown effect 'effects.kkk"},
+      {in_profile.text(), "unknown field 'medium.interface_profile.kkk"},
+      {"? " + huge + "\n: 1\n", "unknown field 'kkk"}};
+  for (const auto& [text, wording] : cases) {
+    const std::string msg = loadError(dir.write("huge_key.yaml", text));
+    EXPECT_LT(msg.size(), 1000u) << msg.substr(0, 1000);
+    EXPECT_TRUE(contains(msg, wording)) << msg.substr(0, 1000);
+    EXPECT_TRUE(contains(msg, "... (100000 characters)")) << msg.substr(0, 1000);
+  }
+  const std::string path = shippedConfig(kDesign1);
+  for (const std::string& override :
+       {"robot." + huge + "=1", huge + ".x=[1", "robot.n_tails." + huge + "=1"}) {
+    const std::string msg = loadError(path, {override});
+    EXPECT_LT(msg.size(), 1000u) << msg.substr(0, 1000);
+    EXPECT_TRUE(contains(msg, "characters)")) << msg.substr(0, 1000);
+  }
+}
+
+TEST(Overrides, OnAConfigThatIsNotAMapNameTheOverride) {
+  // yaml-cpp's own error for a key on a scalar or list quoted the key whole.
+  const TempDir dir;
+  for (const std::string text : {"5\n", "[1, 2]\n"}) {
+    const std::string msg = loadError(dir.write("not_a_map.yaml", text), {"robot.n_tails=3"});
+    EXPECT_TRUE(contains(msg, "override 'robot.n_tails=3': the config is not a map of sections"))
+        << msg;
+  }
+}
+
 TEST(Overrides, UnknownFieldViaOverrideIsRejected) {
   const std::string msg = loadError(shippedConfig(kDesign1), {"robot.n_tail=3"});
   EXPECT_TRUE(contains(msg, "'robot.n_tail'")) << msg;

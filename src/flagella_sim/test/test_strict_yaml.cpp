@@ -86,6 +86,63 @@ TEST(StrictYaml, SecondDocumentIsRejectedWithItsLine) {
   EXPECT_GE(o.line, 2);
 }
 
+TEST(StrictYaml, StrayCommaAtTheTopLevelIsASyntaxError) {
+  // Found by fuzz/fuzz_metadata: yaml-cpp's LoadAll stops in front of a top-level ',' without
+  // consuming it and returns empty documents until memory runs out (std::bad_alloc or a hang).
+  for (const std::string text : {",", "[1], [2]\n", ", a\n", "{a: 1},\n"}) {
+    const Outcome o = parse(text);
+    ASSERT_TRUE(o.failed) << text;
+    EXPECT_EQ(o.line, 1) << text;
+    EXPECT_TRUE(contains(o.message, "YAML syntax error: unexpected ','")) << o.message;
+  }
+  const Outcome later = parse("a: 1\n---\n[1],\n");
+  ASSERT_TRUE(later.failed);
+  EXPECT_EQ(later.line, 3);
+  const TempDir dir;
+  const std::string msg = configError(dir.write("comma.yaml", "[1],\n"));
+  EXPECT_TRUE(contains(msg, "comma.yaml: line 1, column 4: YAML syntax error")) << msg;
+}
+
+TEST(StrictYaml, AliasInsideItsOwnAnchorIsAnError) {
+  // "&x [*x]" is a list holding itself: the checks recursed until the stack overflowed (an
+  // AddressSanitizer stack-overflow report under fuzz/fuzz_config).
+  const Outcome list = parse("a: &x [*x]\n");
+  ASSERT_TRUE(list.failed);
+  EXPECT_EQ(list.line, 1);
+  EXPECT_TRUE(contains(list.message, "'a[0]' refers to a value that contains it")) << list.message;
+  const Outcome map = parse("motor: &m {ramp: {x: *m}}\n");
+  ASSERT_TRUE(map.failed);
+  EXPECT_TRUE(contains(map.message, "'motor.ramp.x' refers to a value")) << map.message;
+}
+
+TEST(StrictYaml, RepeatedAliasesAreCheckedOnce) {
+  // Each level repeats the one before ten times: 10^30 values when expanded, 300 when each
+  // aliased value is checked once. Aliases of complete values stay plain YAML.
+  std::string text = "l0: &l0 [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]\n";
+  for (int level = 1; level <= 30; ++level) {
+    const std::string previous = "*l" + std::to_string(level - 1);
+    text += "l" + std::to_string(level) + ": &l" + std::to_string(level) + " [" + previous;
+    for (int i = 1; i < 10; ++i) text += ", " + previous;
+    text += "]\n";
+  }
+  EXPECT_FALSE(parse(text).failed);
+  const Outcome duplicate = parse(text + "l7: 0\n");
+  ASSERT_TRUE(duplicate.failed);
+  EXPECT_TRUE(contains(duplicate.message, "duplicate key 'l7'")) << duplicate.message;
+}
+
+TEST(StrictYaml, HugeKeysAndTagsAreQuotedAbbreviated) {
+  // Messages quote user text short (fuzz/ checks that every message is at most a few kB).
+  const std::string huge(100000, 'k');
+  for (const std::string text : {"? " + huge + "\n: 1\n? " + huge + "\n: 2\n",
+                                 "a: !" + huge + " 1\n", "? " + huge + "\n: [!x 1]\n"}) {
+    const Outcome o = parse(text);
+    ASSERT_TRUE(o.failed);
+    EXPECT_LT(o.message.size(), 600u) << o.message.substr(0, 600);
+    EXPECT_TRUE(contains(o.message, "characters)")) << o.message.substr(0, 600);
+  }
+}
+
 TEST(StrictYaml, ApplicationTagsAreRejectedCoreTagsAccepted) {
   const Outcome tag = parse("a: 1\nb: !foo 3\n");
   ASSERT_TRUE(tag.failed);

@@ -1,10 +1,15 @@
 #include "flagella_sim/core/strict_yaml.h"
 
+#include <yaml-cpp/eventhandler.h>
+
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <vector>
+
+#include "flagella_sim/core/text_lists.h"
 
 namespace flagella {
 
@@ -26,37 +31,113 @@ bool standardTag(const std::string& tag) {
   return tag.empty() || tag == "?" || tag == "!" || tag.rfind("tag:yaml.org,2002:", 0) == 0;
 }
 
-// How a message names the node at `path`.
+// How a message names the node at `path` (a long path cut: messages quote user text short).
 std::string named(const std::string& path) {
-  return path.empty() ? "the document" : "'" + path + "'";
+  return path.empty() ? "the document" : "'" + abbreviated(path, 200) + "'";
 }
 
-void checkNode(const YAML::Node& node, const std::string& source, const std::string& path) {
-  if (!standardTag(node.Tag()))
-    throw YamlInputError(source, lineOf(node), columnOf(node),
-                         "application tag '" + node.Tag() + "' on " + named(path) +
-                             " is not supported (only plain YAML values)");
-  if (node.IsSequence()) {
-    int index = 0;
-    for (const YAML::Node& item : node)
-      checkNode(item, source, path + "[" + std::to_string(index++) + "]");
-  } else if (node.IsMap()) {
+// The checks of checkStrictYaml over one tree. An alias is its anchor's node itself: a node
+// met again is not checked again (chains of aliases to aliases would take exponential time),
+// and a node met inside itself (an alias within its own anchor, "&a [*a]") is an error, not
+// endless recursion.
+class StrictCheck {
+ public:
+  explicit StrictCheck(const std::string& source) : source_(source) {}
+
+  void check(const YAML::Node& node, const std::string& path) {
+    if (!standardTag(node.Tag()))
+      throw YamlInputError(source_, lineOf(node), columnOf(node),
+                           "application tag '" + abbreviated(node.Tag()) + "' on " + named(path) +
+                               " is not supported (only plain YAML values)");
+    if (!node.IsSequence() && !node.IsMap()) return;
+    if (const bool* done = met(node)) {
+      if (*done) return;
+      throw YamlInputError(
+          source_, lineOf(node), columnOf(node),
+          named(path) + " refers to a value that contains it (an alias inside its anchor)");
+    }
+    bool& done = met_.emplace(node.Mark().pos, std::make_pair(node, false))->second.second;
+    if (node.IsSequence()) {
+      int index = 0;
+      for (const YAML::Node& item : node) check(item, path + "[" + std::to_string(index++) + "]");
+    } else {
+      checkMap(node, path);
+    }
+    done = true;
+  }
+
+ private:
+  void checkMap(const YAML::Node& node, const std::string& path) {
     std::map<std::string, int> first_line;
     for (const auto& kv : node) {
       if (!kv.first.IsScalar())
-        throw YamlInputError(source, lineOf(kv.first), columnOf(kv.first),
+        throw YamlInputError(source_, lineOf(kv.first), columnOf(kv.first),
                              "a key in " + named(path) + " is not a plain name");
       const std::string key = kv.first.Scalar();
-      const std::string field = path.empty() ? key : path + "." + key;
+      const std::string field = path.empty() ? abbreviated(key) : path + "." + abbreviated(key);
       const auto seen = first_line.find(key);
       if (seen != first_line.end())
-        throw YamlInputError(source, lineOf(kv.first), columnOf(kv.first),
-                             "duplicate key '" + field + "' (first given on line " +
+        throw YamlInputError(source_, lineOf(kv.first), columnOf(kv.first),
+                             "duplicate key " + named(field) + " (first given on line " +
                                  std::to_string(seen->second) + "); give each field once");
       first_line.emplace(key, lineOf(kv.first));
-      checkNode(kv.first, source, field);
-      checkNode(kv.second, source, field);
+      check(kv.first, field);
+      check(kv.second, field);
     }
+  }
+
+  // Whether `node` was met (its entry: true once checked), found by position, then identity.
+  const bool* met(const YAML::Node& node) const {
+    const auto [begin, end] = met_.equal_range(node.Mark().pos);
+    for (auto it = begin; it != end; ++it)
+      if (it->second.first.is(node)) return &it->second.second;
+    return nullptr;
+  }
+
+  const std::string& source_;
+  std::multimap<int, std::pair<YAML::Node, bool>> met_;  ///< collections met, by position
+};
+
+// Walks the documents of `text` without building them, to catch the input yaml-cpp's LoadAll
+// never returns on: a ',' at the top level ("[1], [2]", ", a") stops the parser in front of it
+// without consuming it, and every further call gives one more empty document until memory
+// runs out (yaml-cpp 0.7). A document that starts where the previous one did is that case.
+class DocumentStarts : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark& mark) override { start_ = mark; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+  const YAML::Mark& start() const { return start_; }
+
+ private:
+  YAML::Mark start_;
+};
+
+void rejectStuckParse(const std::string& text, const std::string& source) {
+  std::istringstream stream(text);
+  YAML::Parser parser(stream);
+  DocumentStarts documents;
+  int previous = -1;
+  while (parser.HandleNextDocument(documents)) {
+    const YAML::Mark& at = documents.start();
+    if (at.pos <= previous) {
+      const bool printable = at.pos >= 0 && at.pos < static_cast<int>(text.size()) &&
+                             std::isgraph(static_cast<unsigned char>(text[at.pos]));
+      throw YamlInputError(source, at.line + 1, at.column + 1,
+                           "YAML syntax error: unexpected " +
+                               (printable ? "'" + text.substr(at.pos, 1) + "'" : "token") +
+                               " outside a [list] or {map}");
+    }
+    previous = at.pos;
   }
 }
 
@@ -66,6 +147,7 @@ YAML::Node parseOneDocument(const std::string& text, const std::string& source,
                             const std::string& what, bool null_allowed) {
   std::vector<YAML::Node> docs;
   try {
+    rejectStuckParse(text, source);
     docs = YAML::LoadAll(text);
   } catch (const YAML::ParserException& e) {
     throw YamlInputError(source, e.mark.line + 1, e.mark.column + 1, "YAML syntax error: " + e.msg);
@@ -114,7 +196,7 @@ YAML::Node loadStrictYamlText(const std::string& text, const std::string& source
 }
 
 void checkStrictYaml(const YAML::Node& root, const std::string& source) {
-  checkNode(root, source, "");
+  StrictCheck(source).check(root, "");
 }
 
 }  // namespace flagella

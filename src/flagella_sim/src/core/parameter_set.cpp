@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "flagella_sim/core/text_lists.h"
+
 namespace flagella {
 
 std::string rangeMessage(const std::string& field, double value, double min, double max,
@@ -44,13 +46,14 @@ bool ParameterSet::has(const std::string& name) const { return indexOf(name) >= 
 
 double ParameterSet::get(const std::string& name) const {
   const int i = indexOf(name);
-  if (i < 0) throw ConfigError("unknown parameter '" + name + "'");
+  if (i < 0) throw ConfigError("unknown parameter '" + abbreviated(name) + "'");
   return specs_[i].value;
 }
 
 void ParameterSet::set(const std::string& name, double value, const std::string& context) {
   const int i = indexOf(name);
-  const std::string field = context.empty() ? name : context + "." + name;
+  // The name may be user text (an unknown key of a config's effect section): quoted short.
+  const std::string field = context.empty() ? abbreviated(name) : context + "." + abbreviated(name);
   if (i < 0) {
     std::string known;
     for (const ParameterSpec& s : specs_) known += (known.empty() ? "" : ", ") + s.name;

@@ -161,7 +161,8 @@ void applyOverride(YAML::Node& root, const std::string& assignment) {
   try {
     parsed = loadStrictYamlText(text, "override '" + path + "'");
   } catch (const YamlInputError& e) {
-    throw ConfigError("override '" + path + "': cannot parse the value: " + e.message());
+    throw ConfigError("override '" + abbreviated(path) +
+                      "': cannot parse the value: " + e.message());
   }
   // Rebuild without source marks: they would point into the override text, not the file.
   YAML::Node value;
@@ -176,12 +177,16 @@ void applyOverride(YAML::Node& root, const std::string& assignment) {
   std::vector<std::string> parts;
   std::stringstream ss(path);
   for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  // (yaml-cpp would throw BadSubscript, quoting the whole key, for a scalar or list.)
+  if (root && !root.IsNull() && !root.IsMap())
+    throw ConfigError("override '" + abbreviated(assignment) +
+                      "': the config is not a map of sections");
   // yaml-cpp nodes are handles: walk down with fresh handles, never reassign an existing one.
   std::vector<YAML::Node> chain{root};
   for (size_t i = 0; i + 1 < parts.size(); ++i) {
     YAML::Node next = chain.back()[parts[i]];
     if (next && !next.IsNull() && !next.IsMap())
-      throw ConfigError("override '" + abbreviated(assignment) + "': " + parts[i] +
+      throw ConfigError("override '" + abbreviated(assignment) + "': " + abbreviated(parts[i]) +
                         " is not a section");
     chain.push_back(next);
   }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/core/text_lists.h"
 #include "flagella_sim/core/types.h"
 
 namespace flagella {
@@ -31,8 +32,9 @@ class FieldReader {
   /// Keys of the map (for maps whose keys are names, e.g. the effects list).
   std::vector<std::string> keys() const;
   const std::string& path() const { return path_; }
+  /// The dotted name of `key` in messages (a long key abbreviated: it may be any user text).
   std::string field(const std::string& key) const {
-    return path_.empty() ? key : path_ + "." + key;
+    return path_.empty() ? abbreviated(key) : path_ + "." + abbreviated(key);
   }
 
   /// Throws ConfigError if the map holds a key nothing asked for.
