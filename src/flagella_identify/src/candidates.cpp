@@ -47,9 +47,11 @@ Candidate effectCandidate(const EffectDescriptor& d) {
   c.title = h.title;
   c.signature = h.signature;
   c.needs = h.needs;
-  for (const FittableParameter& v : h.variables)
+  for (const FittableParameter& v : h.variables) {
     c.variables.push_back(
         variable(d.name + "." + v.variable, v.unit, v.lower, v.upper, v.log_scale));
+    c.off.push_back(v.off);
+  }
   c.starts = h.starts;
   c.writes = {"effects." + d.name};
   c.apply = [&d](YAML::Node& cfg, const std::vector<double>& values, double session_time) {
@@ -82,6 +84,7 @@ Candidate fabricationAsymmetryCandidate() {
   c.variables = {variable("fabrication_asymmetry.length_ratio", "", 0.5, 1.5, true),
                  variable("fabrication_asymmetry.stiffness_ratio", "", 0.2, 5.0, true)};
   c.starts = {{0.85, 1.0}, {1.0, 1.6}, {1.0, 0.6}};
+  c.off = {1.0, 1.0};  // every tail alike: the baseline robot
   c.writes = {"robot.tail_length_scale", "robot.tail_stiffness_scale"};
   c.apply = [](YAML::Node& cfg, const std::vector<double>& v, double) {
     const int n = tailCount(cfg);

@@ -340,6 +340,15 @@ FitResult fitModel(Model& model, const Evaluator& evaluator, const FitOptions& o
     const Evaluation end = evaluator.evaluate(model, result.values, Part::kTrain);
     result.chi_square = chiSquare(end);
   }
+  // A fit never ends above its start (a nested model started at the simpler model's optimum
+  // can then only improve on it): should the optimiser have, the start is kept.
+  if (const double start_chi_square = chiSquare(start); result.chi_square > start_chi_square) {
+    result.values = coords.fixed;
+    result.sigma.assign(result.values.size(), std::numeric_limits<double>::quiet_NaN());
+    result.chi_square = start_chi_square;
+    result.message += (result.message.empty() ? "" : "; ") +
+                      std::string("the optimiser ended above its start, which is kept");
+  }
   model.setValues(result.values);
   for (size_t i = 0; i < result.values.size(); ++i)
     model.parameters()[i].uncertainty = result.sigma[i];

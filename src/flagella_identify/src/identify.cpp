@@ -56,7 +56,14 @@ std::vector<double> bestStartValues(const Evaluator& evaluator, const Model& mod
       std::vector<double> config_base = values;
       std::copy(config_values.begin(), config_values.begin() + model.baselineCount(),
                 config_base.begin());
+      // First the reference's optimum with the new effect off: the nested fit then starts no
+      // worse than the reference, and the fit never ends above its start (fit.h).
       std::vector<std::vector<double>> trials;
+      if (!c->off.empty()) {
+        std::vector<double> v = values;
+        std::copy(c->off.begin(), c->off.end(), v.begin() + offset);
+        trials.push_back(v);
+      }
       for (const std::vector<double>* base : {&values, &config_base})
         for (const std::vector<double>& start : c->starts) {
           std::vector<double> v = *base;

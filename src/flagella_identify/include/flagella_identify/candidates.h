@@ -28,6 +28,9 @@ struct Candidate {
   std::vector<FitParameter> variables;
   /// Start points (one value per variable) tried before the joint fit; the best one starts it.
   std::vector<std::vector<double>> starts;
+  /// The variables' values at which the effect vanishes or is weakest (FittableParameter::off):
+  /// tried with the simpler model's optimum, so that a nested fit starts no worse than it.
+  std::vector<double> off;
   /// Writes the effect into a robot config tree for the given variable values. The tree has
   /// the run's overrides applied already (n_tails etc.); `session_time` is the run's start.
   std::function<void(YAML::Node& config, const std::vector<double>& values, double session_time)>

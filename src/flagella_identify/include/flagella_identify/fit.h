@@ -42,7 +42,8 @@ struct FitResult {
 };
 
 /// Fits the parameters whose `free` flag is set (all if empty), starting from model values.
-/// The model's values are set to the result.
+/// The model's values are set to the result. It never ends above its start: should the
+/// optimiser, the start values are kept (sigma NaN, said in the message).
 FitResult fitModel(Model& model, const Evaluator& evaluator, const FitOptions& options,
                    const std::vector<bool>& free = {});
 

@@ -41,7 +41,7 @@ const EffectDescriptor& comOffsetEffect() {
     h.title = "centre-of-mass offset with gravity and buoyancy";
     h.signature = "drift in pitch: the head axis tilts and the path climbs or dives";
     h.needs = kVertical | kTimeResolved;
-    h.variables = {{"offset", "offset", false, "m", -0.05, 0.05, false}};
+    h.variables = {{"offset", "offset", false, "m", -0.05, 0.05, false, 0.0}};
     h.starts = {{-2e-3}, {2e-3}};
     h.typical = {{"offset", 1e-3, 4e-3, true}};
     h.steady_table_data = false;

@@ -21,7 +21,8 @@ const EffectDescriptor& dcMotorEffect() {
         "more so under load";
     h.needs = kRotation;
     // Fitted as 1/tau_stall: the no-effect limit (tau_stall -> infinity) is then 0-ward.
-    h.variables = {{"inverse_stall_torque", "stall_torque", true, "1/(N m)", 1e-2, 1e6, true}};
+    h.variables = {
+        {"inverse_stall_torque", "stall_torque", true, "1/(N m)", 1e-2, 1e6, true, 1e-2}};
     h.starts = {{30.0}, {300.0}, {3000.0}};
     // 10-30 % speed loss at 250 rpm (load about 1.3e-3 N m)
     h.typical = {{"inverse_stall_torque", 80.0, 230.0, false}};

@@ -17,7 +17,8 @@ const EffectDescriptor& granularJammingEffect() {
   static const EffectDescriptor d = [] {
     EffectDescriptor e;
     e.name = GranularJamming::kName;
-    e.description = "granular stick-slip: head resistance builds with distance pushed, then releases";
+    e.description =
+        "granular stick-slip: head resistance builds with distance pushed, then releases";
     e.parameters = {{"stiffness", 0.0, 0.0, 1e3, "N/m",
                      "jamming stiffness k_j: resistance gained per metre pushed"},
                     {"release_force", 1e-3, 1e-9, 10.0, "N",
@@ -29,8 +30,8 @@ const EffectDescriptor& granularJammingEffect() {
     h.title = "granular stick-slip (jamming and release)";
     h.signature = "intermittency: the head slows to a stop while resistance builds, then surges";
     h.needs = kTranslation | kTimeResolved;
-    h.variables = {{"stiffness", "stiffness", false, "N/m", 1e-4, 1e3, true},
-                   {"release_force", "release_force", false, "N", 1e-7, 1.0, true}};
+    h.variables = {{"stiffness", "stiffness", false, "N/m", 1e-4, 1e3, true, 1e-4},
+                   {"release_force", "release_force", false, "N", 1e-7, 1.0, true, 1e-7}};
     // A grid: the fit of a stick-slip is multimodal. Whether the head stops at a command depends
     // on F_r against the thrust there, so the training cost has a narrow valley in F_r: steps of
     // 10^0.1 (26 %) resolve commands whose thrusts differ by 1.3-2x. Release distances

@@ -25,16 +25,16 @@ const EffectDescriptor& granularYieldEffect() {
     EffectDescriptor e;
     e.name = GranularYield::kName;
     e.description = "granular yield stress: no head translation below a thrust threshold";
-    e.parameters = {{"yield_force", 0.0, 0.0, 10.0, "N",
-                     "granular yield force F_y resisting head translation"},
-                    {"velocity_scale", 1e-6, 1e-9, 1e-2, "m/s",
-                     "regularisation speed v_s of the yield force's sign function"}};
+    e.parameters = {
+        {"yield_force", 0.0, 0.0, 10.0, "N", "granular yield force F_y resisting head translation"},
+        {"velocity_scale", 1e-6, 1e-9, 1e-2, "m/s",
+         "regularisation speed v_s of the yield force's sign function"}};
     e.make = [](const EffectBuildContext&) { return std::make_unique<GranularYield>(); };
     DiscoveryHints h;
     h.title = "granular yield threshold";
     h.signature = "threshold: no translation below a motor speed, full speed above it";
     h.needs = kTranslation;
-    h.variables = {{"yield_force", "yield_force", false, "N", 1e-7, 1.0, true}};
+    h.variables = {{"yield_force", "yield_force", false, "N", 1e-7, 1.0, true, 1e-7}};
     h.starts = {{1e-5}, {1e-4}, {1e-3}};
     h.typical = {{"yield_force", 3e-4, 9e-4, false}};
     e.discovery = h;

@@ -49,7 +49,9 @@ const EffectDescriptor& interfaceLateralForceEffect() {
     EffectDescriptor e;
     e.name = InterfaceLateralForce::kName;
     e.description = "lateral force on a head spinning at an air-liquid interface";
-    e.options = {{"mode", "fitted", {"fitted", "integrated"},
+    e.options = {{"mode",
+                  "fitted",
+                  {"fitted", "integrated"},
                   "C_yr given (fitted) or from the viscosity profile (integrated)"}};
     e.parameters = {{"C_yr", 0.0, -1e4, 1e4, "", "lateral rotation-induced force coefficient"},
                     {"head_radius", 0.02, 1e-6, 10.0, "m", "head radius R"},
@@ -62,7 +64,7 @@ const EffectDescriptor& interfaceLateralForceEffect() {
     h.title = "depth-dependent viscosity near an interface (lateral head force)";
     h.signature = "circling: a steady yaw rate that reverses with the sign of rotation";
     h.needs = kHeading;
-    h.variables = {{"C_yr", "C_yr", false, "", -50.0, 50.0, false}};
+    h.variables = {{"C_yr", "C_yr", false, "", -50.0, 50.0, false, 0.0}};
     h.starts = {{-1e-1}, {-1e-2}, {-1e-3}, {1e-3}, {1e-2}, {1e-1}};  // both signs, three decades
     h.typical = {{"C_yr", 2e-3, 8e-3, true}};
     h.steady_table_data = false;

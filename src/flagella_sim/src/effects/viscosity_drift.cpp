@@ -28,7 +28,7 @@ const EffectDescriptor& viscosityDriftEffect() {
     h.title = "slow viscosity drift with temperature";
     h.signature = "drift: the same experiment gives different speeds at different session times";
     h.needs = kSessionTime;
-    h.variables = {{"rate", "rate", false, "1/h", -2.0, 2.0, false}};
+    h.variables = {{"rate", "rate", false, "1/h", -2.0, 2.0, false, 0.0}};
     h.starts = {{-0.1}, {0.1}};
     h.session_time_parameter = "session_time";
     h.typical = {{"rate", 0.04, 0.12, true}};

@@ -43,9 +43,9 @@ struct EffectSpec {
 
 /// The robot's sizes that effects take their defaults from.
 struct RobotDimensions {
-  double head_radius = 0.02;     ///< a (or R) [m]
-  double head_length = 0.04;     ///< L_head [m]
-  double body_density = 1000.0;  ///< density of the robot's material [kg/m^3]
+  double head_radius = 0.02;        ///< a (or R) [m]
+  double head_length = 0.04;        ///< L_head [m]
+  double body_density = 1000.0;     ///< density of the robot's material [kg/m^3]
   double filament_radius = 3.2e-3;  ///< r0 of the tails or the flagellum [m]
 };
 
@@ -74,6 +74,10 @@ struct FittableParameter {
   std::string unit;         ///< of the variable
   double lower = 0.0, upper = 0.0;  ///< fit range of the variable (inside the parameter's range)
   bool log_scale = false;           ///< fitted as log(variable): positive, spans decades
+  /// The value inside [lower, upper] at which the effect vanishes, or is weakest where the range
+  /// excludes "none" (a log-scale variable): a nested fit starts from the simpler model's
+  /// optimum with the effect here, so it can only improve on that model (README, discovery).
+  double off = 0.0;
 };
 
 /// A realistic strength for generated test data: drawn log-uniformly in [low, high].

@@ -1,0 +1,70 @@
+// Nested candidate fits start at the simpler model's optimum with the new effect off, so they can
+// only improve its training cost: every candidate's "off" values lie in its fit range and give
+// the baseline's predictions (the baseline model has no code of the effect at all), on a null
+// table and a null time series of the design-1 robot. That the fits then never end above the
+// baseline is asserted on every case the discovery tests run (support/discovery_check.h).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "flagella_identify/calibration.h"
+#include "flagella_identify/candidates.h"
+#include "flagella_identify/discovery_cases.h"
+#include "flagella_identify/evaluation.h"
+#include "flagella_identify/model.h"
+#include "flagella_sim/simulation/simulation_config.h"
+
+namespace flagella::identify {
+namespace {
+
+const std::string kBaseline = FLAGELLA_CONFIG_DIR "/identification/granular_design1_coarse.yaml";
+
+TEST(NestedCandidates, OffValuesLieInTheFitRange) {
+  for (const Candidate& c : standardCandidates()) {
+    ASSERT_EQ(c.off.size(), c.variables.size()) << c.name;
+    for (size_t i = 0; i < c.off.size(); ++i) {
+      EXPECT_GE(c.off[i], c.variables[i].lower) << c.variables[i].name;
+      EXPECT_LE(c.off[i], c.variables[i].upper) << c.variables[i].name;
+    }
+  }
+}
+
+TEST(NestedCandidates, EveryCandidateOffGivesTheBaselinePredictions) {
+  const YAML::Node baseline = loadConfigTree(kBaseline);
+  EvaluatorOptions options;
+  options.jobs = 1;
+  int checked = 0;
+  for (const char* name : {"null_table", "null_series"}) {
+    const GeneratedCase generated =
+        generateCase(discoveryCaseByName(name), baseline, kBaseline, 21, options);
+    const Evaluator evaluator(generated.data, trainingOnlySplit(generated.data), options);
+    const Model base(baseline, kBaseline, caseFreeParameters());
+    const Evaluation reference = evaluator.evaluate(base, base.values(), Part::kAll);
+    ASSERT_TRUE(reference.ok) << reference.failure;
+    const double reference_chi_square = chiSquare(reference);
+    for (const Candidate& c : standardCandidates()) {
+      Model nested(baseline, kBaseline, caseFreeParameters());
+      nested.addCandidate(c);
+      std::vector<double> values = base.values();
+      values.insert(values.end(), c.off.begin(), c.off.end());
+      const Evaluation e = evaluator.evaluate(nested, values, Part::kAll);
+      ASSERT_TRUE(e.ok) << c.name << ": " << e.failure;
+      ASSERT_EQ(e.points.size(), reference.points.size()) << c.name;
+      // Residuals agree point by point to well inside one noise sigma; chi^2 to 0.1 %.
+      double largest = 0.0;
+      for (size_t k = 0; k < e.points.size(); ++k)
+        largest = std::max(largest, std::abs(e.points[k].z() - reference.points[k].z()));
+      EXPECT_LT(largest, 0.05) << name << ", " << c.name;
+      EXPECT_NEAR(chiSquare(e), reference_chi_square, 1e-3 * reference_chi_square + 1e-6)
+          << name << ", " << c.name;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 2 * static_cast<int>(standardCandidates().size()));
+}
+
+}  // namespace
+}  // namespace flagella::identify
