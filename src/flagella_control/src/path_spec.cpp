@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "flagella_sim/core/strict_yaml.h"
+#include "flagella_sim/core/text_lists.h"
 
 namespace flagella::control {
 namespace {
@@ -27,12 +28,18 @@ double positiveLength(const YAML::Node& node, const std::string& field) {
   return value;
 }
 
+/// The text of a scalar field; a list or map there is an error naming the field.
+std::string text(const YAML::Node& node, const std::string& field) {
+  if (!node[field].IsScalar()) fail("'" + field + "' must be a single value, not a list or map");
+  return node[field].Scalar();
+}
+
 bool turnsLeft(const YAML::Node& node) {
   if (!node["turn"]) return true;
-  const std::string turn = node["turn"].as<std::string>();
+  const std::string turn = text(node, "turn");
   if (turn == "left") return true;
   if (turn == "right") return false;
-  fail("'turn' must be 'left' or 'right', got '" + turn + "'");
+  fail("'turn' must be 'left' or 'right', got '" + abbreviated(turn) + "'");
 }
 
 std::string format(double value) {
@@ -43,11 +50,12 @@ std::string format(double value) {
 
 void rejectUnknownKeys(const YAML::Node& node, const std::set<std::string>& allowed) {
   for (const auto& item : node) {
-    const std::string key = item.first.as<std::string>();
+    if (!item.first.IsScalar()) fail("the keys of 'path' must be plain names");
+    const std::string key = item.first.Scalar();
     if (!allowed.count(key)) {
       std::string list;
       for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      fail("unknown field '" + key + "' (allowed: " + list + ")");
+      fail("unknown field '" + abbreviated(key) + "' (allowed: " + list + ")");
     }
   }
 }
@@ -59,15 +67,15 @@ PathSpec pathSpecFromYaml(const YAML::Node& node) {
   rejectUnknownKeys(node, {"shape", "frame", "width", "height", "side", "radius", "turn", "points",
                            "closed", "laps"});
   if (!node["shape"]) fail("'shape' is required: polyline, circle, rectangle or triangle");
-  const std::string shape = node["shape"].as<std::string>();
+  const std::string shape = text(node, "shape");
   PathSpec spec;
-  const std::string frame = node["frame"] ? node["frame"].as<std::string>() : "start";
+  const std::string frame = node["frame"] ? text(node, "frame") : "start";
   if (frame == "start")
     spec.frame = PathFrame::Start;
   else if (frame == "world")
     spec.frame = PathFrame::World;
   else
-    fail("'frame' must be 'start' or 'world', got '" + frame + "'");
+    fail("'frame' must be 'start' or 'world', got '" + abbreviated(frame) + "'");
 
   const bool left = turnsLeft(node);
   const double side_sign = left ? 1.0 : -1.0;
@@ -93,13 +101,25 @@ PathSpec pathSpecFromYaml(const YAML::Node& node) {
       const YAML::Node p = node["points"][i];
       if (!p.IsSequence() || p.size() != 2)
         fail("points[" + std::to_string(i) + "] must be a pair [x, y] in metres");
+      double x = 0.0, y = 0.0;
       try {
-        points.emplace_back(p[0].as<double>(), p[1].as<double>());
+        x = p[0].as<double>();
+        y = p[1].as<double>();
       } catch (const YAML::Exception&) {
         fail("points[" + std::to_string(i) + "] must hold two numbers");
       }
+      if (!std::isfinite(x) || !std::isfinite(y))
+        fail("points[" + std::to_string(i) + "] must hold two finite numbers");
+      points.emplace_back(x, y);
     }
-    closed = node["closed"] ? node["closed"].as<bool>() : false;
+    closed = false;  // a polyline is open unless it says otherwise
+    if (node["closed"]) {
+      try {
+        closed = node["closed"].as<bool>();
+      } catch (const YAML::Exception&) {
+        fail("'closed' must be true or false, got '" + abbreviated(text(node, "closed")) + "'");
+      }
+    }
     try {
       spec.path = Path::polyline(points, closed);
     } catch (const std::invalid_argument& e) {
@@ -108,10 +128,16 @@ PathSpec pathSpecFromYaml(const YAML::Node& node) {
     spec.description = std::string(closed ? "closed " : "") + "polyline of " +
                        std::to_string(points.size()) + " points";
   } else {
-    fail("unknown shape '" + shape + "' (allowed: polyline, circle, rectangle, triangle)");
+    fail("unknown shape '" + abbreviated(shape) +
+         "' (allowed: polyline, circle, rectangle, triangle)");
   }
   if (node["laps"]) {
-    spec.laps = node["laps"].as<int>();
+    try {
+      spec.laps = node["laps"].as<int>();
+    } catch (const YAML::Exception&) {
+      fail("'laps' must be a whole number in [1, 100], got '" + abbreviated(text(node, "laps")) +
+           "'");
+    }
     if (spec.laps < 1 || spec.laps > 100)
       fail("'laps' = " + std::to_string(spec.laps) + " is out of range [1, 100]");
     if (!closed && spec.laps != 1) fail("'laps' must be 1 for an open polyline");

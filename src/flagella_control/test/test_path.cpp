@@ -524,3 +524,28 @@ TEST(PathSpec, ErrorsNameTheField) {
   // Every message starts with the subject.
   EXPECT_EQ(e.rfind("path:", 0), 0u) << e;
 }
+
+// Values of the wrong kind had escaped as yaml-cpp's "bad conversion", naming no field.
+TEST(PathSpec, ValuesOfTheWrongKindNameTheField) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{shape: [circle], radius: 0.2}", "'shape' must be a single value"},
+      {"{shape: circle, radius: 0.2, turn: {left: 1}}", "'turn' must be a single value"},
+      {"{shape: circle, radius: 0.2, frame: [start]}", "'frame' must be a single value"},
+      {"{shape: polyline, points: [[0, 0], [1, 0]], closed: maybe}",
+       "'closed' must be true or false, got 'maybe'"},
+      {"{shape: polyline, points: [[0, 0], [1, 0]], closed: [true]}",
+       "'closed' must be a single value"},
+      {"{shape: rectangle, width: 0.3, height: 0.3, laps: many}",
+       "'laps' must be a whole number in [1, 100], got 'many'"},
+      {"{shape: polyline, points: [[0, 0], [.nan, 1]]}", "points[1] must hold two finite numbers"},
+      {"{[shape]: circle, radius: 0.2}", "the keys of 'path' must be plain names"},
+  };
+  for (const auto& [yaml, expected] : cases) {
+    const std::string e = specError(yaml);
+    EXPECT_NE(e.find(expected), std::string::npos) << yaml << " -> " << e;
+    EXPECT_EQ(e.find("bad conversion"), std::string::npos) << yaml << " -> " << e;
+  }
+  // A long unknown value is quoted cut.
+  const std::string e = specError("{shape: " + std::string(5000, 'k') + "}");
+  EXPECT_LT(e.size(), 300u) << e.size();
+}
