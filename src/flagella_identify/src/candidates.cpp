@@ -56,6 +56,11 @@ Candidate effectCandidate(const EffectDescriptor& d) {
   c.writes = {"effects." + d.name};
   c.apply = [&d](YAML::Node& cfg, const std::vector<double>& values, double session_time) {
     const DiscoveryHints& hints = *d.discovery;
+    // At its off values the effect is left out, so the nested model is the simpler one exactly.
+    bool off = true;
+    for (size_t i = 0; i < hints.variables.size(); ++i)
+      off = off && values[i] == hints.variables[i].off;
+    if (off) return;
     std::vector<std::pair<std::string, double>> fields;
     for (size_t i = 0; i < hints.variables.size(); ++i) {
       const FittableParameter& v = hints.variables[i];
@@ -87,6 +92,7 @@ Candidate fabricationAsymmetryCandidate() {
   c.off = {1.0, 1.0};  // every tail alike: the baseline robot
   c.writes = {"robot.tail_length_scale", "robot.tail_stiffness_scale"};
   c.apply = [](YAML::Node& cfg, const std::vector<double>& v, double) {
+    if (v[0] == 1.0 && v[1] == 1.0) return;  // off: the baseline robot exactly
     const int n = tailCount(cfg);
     YAML::Node length(YAML::NodeType::Sequence), stiffness(YAML::NodeType::Sequence);
     for (int k = 0; k < n; ++k) {

@@ -207,8 +207,8 @@ TEST(Candidates, WriteTheDescriptorsParameters) {
     const EffectDescriptor* d = findEffectDescriptor(c.name);
     if (!d) continue;  // fabrication_asymmetry: robot fields (tested above)
     YAML::Node tree = YAML::Clone(baseline);
-    std::vector<double> values;
-    for (const FitParameter& v : c.variables) values.push_back(v.value);
+    // A start point: the effect on (at its off values `apply` leaves it out, checked below).
+    const std::vector<double> values = c.starts.front();
     c.apply(tree, values, 1234.0);
     const SimulationConfig config = parseSimulationConfig(tree, "<candidate " + c.name + ">");
     std::map<std::string, double> written;
@@ -223,6 +223,9 @@ TEST(Candidates, WriteTheDescriptorsParameters) {
     }
     if (!h.session_time_parameter.empty())
       EXPECT_EQ(written[h.session_time_parameter], 1234.0) << c.name;
+    YAML::Node off_tree = YAML::Clone(baseline);
+    c.apply(off_tree, c.off, 1234.0);
+    EXPECT_EQ(YAML::Dump(off_tree), YAML::Dump(baseline)) << c.name << " at its off values";
   }
 }
 

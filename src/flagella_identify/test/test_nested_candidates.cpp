@@ -1,8 +1,10 @@
 // Nested candidate fits start at the simpler model's optimum with the new effect off, so they can
-// only improve its training cost: every candidate's "off" values lie in its fit range and give
-// the baseline's predictions (the baseline model has no code of the effect at all), on a null
-// table and a null time series of the design-1 robot. That the fits then never end above the
-// baseline is asserted on every case the discovery tests run (support/discovery_check.h).
+// only improve its training cost: every candidate's "off" values lie in its fit range, leave the
+// effect out of the config there (the nested model is the baseline exactly), and next to them,
+// with the effect switched on at its weakest, give the baseline's predictions (the baseline
+// model has no code of the effect at all: the step at "off" is negligible), on a null table and
+// a null time series of the design-1 robot. That the fits then never end above the baseline is
+// asserted on every case the discovery tests run (support/discovery_check.h).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -50,6 +52,14 @@ TEST(NestedCandidates, EveryCandidateOffGivesTheBaselinePredictions) {
       nested.addCandidate(c);
       std::vector<double> values = base.values();
       values.insert(values.end(), c.off.begin(), c.off.end());
+      // At the off values the config is the baseline's, to the letter.
+      nested.setValues(values);
+      EXPECT_EQ(YAML::Dump(nested.extendedConfig()), YAML::Dump(base.extendedConfig())) << c.name;
+      // Next to them (inside the range) the effect is on, at its weakest.
+      for (size_t i = 0; i < c.off.size(); ++i) {
+        double& v = values[base.values().size() + i];
+        v = c.off[i] == c.variables[i].upper ? v * (1.0 - 1e-6) - 1e-12 : v * (1.0 + 1e-6) + 1e-12;
+      }
       const Evaluation e = evaluator.evaluate(nested, values, Part::kAll);
       ASSERT_TRUE(e.ok) << c.name << ": " << e.failure;
       ASSERT_EQ(e.points.size(), reference.points.size()) << c.name;

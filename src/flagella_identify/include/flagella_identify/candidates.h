@@ -29,7 +29,8 @@ struct Candidate {
   /// Start points (one value per variable) tried before the joint fit; the best one starts it.
   std::vector<std::vector<double>> starts;
   /// The variables' values at which the effect vanishes or is weakest (FittableParameter::off):
-  /// tried with the simpler model's optimum, so that a nested fit starts no worse than it.
+  /// `apply` leaves the effect out there, so the simpler model's optimum with these values is
+  /// that model exactly, and a nested fit started there ends no worse than it.
   std::vector<double> off;
   /// Writes the effect into a robot config tree for the given variable values. The tree has
   /// the run's overrides applied already (n_tails etc.); `session_time` is the run's start.
