@@ -72,7 +72,10 @@ out="$(cd "$SESSION_TMP" && env -i PATH=/usr/bin:/bin HOME="$SESSION_TMP" ROS_HO
 [[ "$out" == *"could not start"*"devel/setup.bash"* ]] || fail "unbuilt node not named: $out"
 echo "ok: a node that cannot be started is named"
 # 5. The package's launch file.
-roslaunch --files flagella_sim sim.launch | grep -q "sim.launch" || fail "roslaunch flagella_sim sim.launch"
+# (the list is read whole first: grep -q closing the pipe at its first match made roslaunch die
+# of a broken pipe, and pipefail failed the check now and then)
+files="$(roslaunch --files flagella_sim sim.launch)" || fail "roslaunch --files flagella_sim sim.launch failed"
+[[ "$files" == *"sim.launch"* ]] || fail "roslaunch flagella_sim sim.launch: not found in: $files"
 echo "ok: roslaunch flagella_sim sim.launch"
 # 6. A controller without a simulator gives up.
 roscore -p "$ROS_PORT" > "$SESSION_TMP/roscore.log" 2>&1 &
