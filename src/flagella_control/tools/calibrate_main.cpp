@@ -125,6 +125,5 @@ int main(int argc, char** argv) {
     std::printf("simulated %.0f s in %.1f s wall (%.1fx real time); wrote %s\n", simulated, wall,
                 simulated / wall, output.c_str());
     return 0;
-    return 0;
   });
 }

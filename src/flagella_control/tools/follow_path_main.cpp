@@ -120,6 +120,5 @@ int main(int argc, char** argv) {
         flagella::units::metresToMm(stats.max_abs), stats.max_abs / l,
         flagella::units::metresToMm(stats.rms()), stats.rms() / l, stats.samples);
     return report.halted ? 3 : finished ? 0 : 4;
-    return 0;
   });
 }

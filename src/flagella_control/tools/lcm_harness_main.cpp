@@ -58,6 +58,5 @@ int main(int argc, char** argv) {
                 flagella::units::metresToMm(moved.x()), flagella::units::metresToMm(moved.y()),
                 flagella::units::metresToMm(moved.z()), session.health().motor_rejected);
     return report.halted ? 3 : 0;
-    return 0;
   });
 }

@@ -44,6 +44,5 @@ int main(int argc, char** argv) {
     std::printf("wrote %s (%.0f s)\n", output.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     return 0;
-    return 0;
   });
 }

@@ -65,6 +65,5 @@ int main(int argc, char** argv) {
       if (!csv) throw std::runtime_error("cannot write " + csv_path);
     }
     return result.halted ? 3 : result.reached == result.total ? 0 : 4;
-    return 0;
   });
 }

@@ -62,6 +62,5 @@ int main(int argc, char** argv) {
         return 1;
       }
     return 0;
-    return 0;
   });
 }

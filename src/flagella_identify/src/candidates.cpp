@@ -56,11 +56,6 @@ Candidate effectCandidate(const EffectDescriptor& d) {
   c.writes = {"effects." + d.name};
   c.apply = [&d](YAML::Node& cfg, const std::vector<double>& values, double session_time) {
     const DiscoveryHints& hints = *d.discovery;
-    // At its off values the effect is left out, so the nested model is the simpler one exactly.
-    bool off = true;
-    for (size_t i = 0; i < hints.variables.size(); ++i)
-      off = off && values[i] == hints.variables[i].off;
-    if (off) return;
     std::vector<std::pair<std::string, double>> fields;
     for (size_t i = 0; i < hints.variables.size(); ++i) {
       const FittableParameter& v = hints.variables[i];
@@ -92,7 +87,6 @@ Candidate fabricationAsymmetryCandidate() {
   c.off = {1.0, 1.0};  // every tail alike: the baseline robot
   c.writes = {"robot.tail_length_scale", "robot.tail_stiffness_scale"};
   c.apply = [](YAML::Node& cfg, const std::vector<double>& v, double) {
-    if (v[0] == 1.0 && v[1] == 1.0) return;  // off: the baseline robot exactly
     const int n = tailCount(cfg);
     YAML::Node length(YAML::NodeType::Sequence), stiffness(YAML::NodeType::Sequence);
     for (int k = 0; k < n; ++k) {
@@ -106,11 +100,22 @@ Candidate fabricationAsymmetryCandidate() {
   return c;
 }
 
+/// `c` whose `apply` leaves the config alone at the off values, so that the nested model there
+/// is the simpler one exactly (Candidate::off).
+Candidate leavingOutWhenOff(Candidate c) {
+  c.apply = [apply = c.apply, off = c.off](YAML::Node& config, const std::vector<double>& values,
+                                           double session_time) {
+    if (values == off) return;
+    apply(config, values, session_time);
+  };
+  return c;
+}
+
 std::vector<Candidate> makeCandidates() {
   std::vector<Candidate> list;
   for (const EffectDescriptor* d : effectRegistry())
-    if (d->discovery) list.push_back(effectCandidate(*d));
-  list.push_back(fabricationAsymmetryCandidate());
+    if (d->discovery) list.push_back(leavingOutWhenOff(effectCandidate(*d)));
+  list.push_back(leavingOutWhenOff(fabricationAsymmetryCandidate()));
   return list;
 }
 
@@ -179,6 +184,14 @@ const Candidate& candidateByName(const std::string& name) {
   s << "unknown candidate effect '" << name << "'; known:";
   for (const Candidate& c : standardCandidates()) s << " " << c.name;
   throw ConfigError(s.str());
+}
+
+std::vector<const Candidate*> candidatesNamed(const std::vector<std::string>& names) {
+  std::vector<const Candidate*> pool;
+  if (names.empty())
+    for (const Candidate& c : standardCandidates()) pool.push_back(&c);
+  for (const std::string& name : names) pool.push_back(&candidateByName(name));
+  return pool;
 }
 
 std::string notIdentifiableReason(const Candidate& c, unsigned observables) {

@@ -1,8 +1,6 @@
 // Checks of the config overrides carried by measured data (check_overrides.h).
 #include "flagella_identify/check_overrides.h"
 
-#include <algorithm>
-
 #include "flagella_identify/candidates.h"
 #include "flagella_identify/data_error.h"
 #include "flagella_sim/core/text_lists.h"
@@ -59,10 +57,8 @@ FittedNames fittedNames(const std::vector<std::string>& free,
                         const std::vector<std::string>& candidates) {
   FittedNames names;
   names.parameters = free;
-  if (candidates.empty())
-    for (const Candidate& c : standardCandidates()) names.candidates.emplace_back(c.name, c.writes);
-  for (const std::string& name : candidates)
-    names.candidates.emplace_back(name, candidateByName(name).writes);
+  for (const Candidate* c : candidatesNamed(candidates))
+    names.candidates.emplace_back(c->name, c->writes);
   return names;
 }
 

@@ -244,12 +244,7 @@ ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>
 
 void Identification::fitCandidates(IdentifyResult& result) {
   const unsigned observables = observablesOf(data_);
-  std::vector<const Candidate*> pool;
-  if (options_.candidates.empty())
-    for (const Candidate& c : standardCandidates()) pool.push_back(&c);
-  else
-    for (const std::string& n : options_.candidates) pool.push_back(&candidateByName(n));
-  for (const Candidate* c : pool) {
+  for (const Candidate* c : candidatesNamed(options_.candidates)) {
     const std::string reason = notIdentifiableReason(*c, observables);
     if (!reason.empty()) {
       ModelOutcome skipped;

@@ -146,8 +146,5 @@ int main(int argc, char** argv) {
   app.add_option("config_dir", config_dir, "folder holding the shipped configs")
       ->capture_default_str();
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
-  return flagella::cli::runGuarded([&] {
-    return run(config_dir);
-    return 0;
-  });
+  return flagella::cli::runGuarded([&] { return run(config_dir); });
 }

@@ -195,8 +195,5 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--quick", quick, "fewer steps and a 4 s accuracy run");
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
-  return flagella::cli::runGuarded([&] {
-    return run(config_dir, quick);
-    return 0;
-  });
+  return flagella::cli::runGuarded([&] { return run(config_dir, quick); });
 }

@@ -175,17 +175,16 @@ constexpr char kPlotFile[] = "run.png";
 // hold the run up to it): an interrupted or refused run leaves the previous outputs as they were.
 constexpr char kStagingFolder[] = ".run.partial";
 
-/// Removes the staging folder when a run ends by an exception before its outputs are moved.
+/// Removes the staging folder when the run ends, its outputs moved or not (an exception).
 class StagingGuard {
  public:
   explicit StagingGuard(std::filesystem::path path) : path_(std::move(path)) {}
   ~StagingGuard() {
     std::error_code ignored;
-    if (!path_.empty()) std::filesystem::remove_all(path_, ignored);
+    std::filesystem::remove_all(path_, ignored);
   }
   StagingGuard(const StagingGuard&) = delete;
   StagingGuard& operator=(const StagingGuard&) = delete;
-  void release() { path_.clear(); }
 
  private:
   std::filesystem::path path_;
@@ -193,7 +192,7 @@ class StagingGuard {
 
 /// Moves the staged outputs into `out_dir`, replacing the previous run's (said on stderr) and
 /// removing those this run did not write (nodes.csv of an earlier --nodes run, a plot that
-/// failed), so nothing stale is left beside them; then removes the staging folder.
+/// failed), so nothing stale is left beside them.
 void publishRun(const std::filesystem::path& staging, const std::filesystem::path& out_dir) {
   std::string replaced;
   for (const char* name : {kTimeseriesFile, kNodesFile, kSummaryFile, kPlotFile}) {
@@ -205,7 +204,6 @@ void publishRun(const std::filesystem::path& staging, const std::filesystem::pat
     else
       std::filesystem::remove(target);
   }
-  std::filesystem::remove_all(staging);
   if (!replaced.empty())
     std::fprintf(stderr, "replaced the previous run in %s/ (%s)\n", out_dir.c_str(),
                  replaced.c_str());
@@ -237,7 +235,6 @@ int runCommand(const RunOptions& o) {
   plotTable(o.plot_script, staged + kTimeseriesFile, staged + kPlotFile, "plot",
             o.out_dir + "/" + kPlotFile);
   publishRun(staging, o.out_dir);
-  staging_guard.release();
   if (r.failed) {
     std::fprintf(stderr, "error: solver failure, outputs hold the run up to t = %.3f s: %s\n",
                  sim.time(), r.error.c_str());

@@ -206,6 +206,5 @@ int main(int argc, char** argv) {
     if (run->parsed()) return runCommand(o);
     if (point->parsed()) return runPointCommand(o);
     return collectCommand(o);
-    return 0;
   });
 }

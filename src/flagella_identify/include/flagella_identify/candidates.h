@@ -49,6 +49,8 @@ struct Candidate {
 /// order, then fabrication asymmetry.
 const std::vector<Candidate>& standardCandidates();
 const Candidate& candidateByName(const std::string& name);
+/// The candidates of these names (each checked by candidateByName); all standard ones if empty.
+std::vector<const Candidate*> candidatesNamed(const std::vector<std::string>& names);
 
 /// Why a candidate cannot be identified from data with these observables ("" if it can).
 std::string notIdentifiableReason(const Candidate& c, unsigned observables);
