@@ -1,6 +1,7 @@
-// Benchmark program: where a step of the shipped robots spends its time (profile by part), their
-// real-time factor and step time against one factorization + solve, and time per step against
-// node count (with the fitted scaling exponent). Prints figures; asserts nothing.
+// Benchmark program: where a step of the shipped robots spends its time (profile by part, with the
+// block LU and with KLU), their real-time factor and step time against one factorization + solve
+// of either, and time per step against node count (with the fitted scaling exponent). Prints
+// figures; asserts nothing.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -87,7 +88,9 @@ double printProfile(const std::string& label, const std::string& path,
 int run(const std::string& config_dir) {
   std::printf("flagella core benchmark (one core, median of %d runs, after %.0f s warm-up)\n\n",
               kRepeats, kWarmupSeconds);
-  std::printf("where a step's time goes (LU + solve: one sparse factorization and one solve)\n");
+  std::printf(
+      "where a step's time goes (LU + solve: one sparse factorization and one solve; the block\n"
+      "LU is the default linear solver, KLU its pivoting fallback, solver.linear_solver)\n");
   struct Case {
     std::string label, file;
     std::vector<std::string> overrides;
@@ -103,19 +106,29 @@ int run(const std::string& config_dir) {
        "interface_robot.yaml",
        {"robot.n_tails=2", "simulation.dt=0.01"}},
   };
-  std::vector<double> factor_solve;
-  for (const Case& c : cases)
-    factor_solve.push_back(printProfile(c.label, config_dir + "/" + c.file, c.overrides, 20.0));
-  std::printf("\n%-44s %8s %10s %12s %12s %16s\n", "case", "DOFs", "us/step", "real-time x",
-              "Newton/step", "step/(LU+solve)");
+  auto withKlu = [](std::vector<std::string> overrides) {
+    overrides.push_back("solver.linear_solver=klu");
+    return overrides;
+  };
+  std::vector<double> block_solve, klu_solve;
+  for (const Case& c : cases) {
+    const std::string path = config_dir + "/" + c.file;
+    block_solve.push_back(printProfile(c.label + " (block LU)", path, c.overrides, 20.0));
+    klu_solve.push_back(printProfile(c.label + " (KLU)", path, withKlu(c.overrides), 20.0));
+  }
+  std::printf("\n%-38s %6s %9s %11s %11s %16s %14s %12s\n", "case (block LU)", "DOFs", "us/step",
+              "real-time x", "Newton/step", "step/(LU+solve)", "step/(KLU+solve)", "us/step KLU");
   for (size_t k = 0; k < cases.size(); ++k) {
     const Case& c = cases[k];
-    const SimulationConfig config = loadSimulationConfig(config_dir + "/" + c.file, c.overrides);
+    const std::string path = config_dir + "/" + c.file;
+    const SimulationConfig config = loadSimulationConfig(path, c.overrides);
     const int dofs = Simulation(config).network().ndof();
-    const Timing t = timeConfig(config_dir + "/" + c.file, c.overrides, 20.0);
-    std::printf("%-44s %8d %10.1f %12.1f %12.2f %16.2f\n", c.label.c_str(), dofs,
+    const Timing t = timeConfig(path, c.overrides, 20.0);
+    const Timing klu = timeConfig(path, withKlu(c.overrides), 20.0);
+    std::printf("%-38s %6d %9.1f %11.1f %11.2f %16.2f %16.2f %12.1f\n", c.label.c_str(), dofs,
                 1e6 * t.seconds_per_step, t.real_time_factor, t.newton_per_step,
-                t.seconds_per_step / factor_solve[k]);
+                t.seconds_per_step / block_solve[k], t.seconds_per_step / klu_solve[k],
+                1e6 * klu.seconds_per_step);
   }
 
   std::printf("\ntime per step against node count (design 1, n = 3, 100 rpm, dt = 1e-2)\n");

@@ -335,9 +335,11 @@ TEST(MotorCommand, NanInsideASubdividedStepIsASolverFailure) {
 // (d) Reuse of the sparsity pattern and the symbolic analysis
 // ---------------------------------------------------------------------------------------------
 
-void expectSingleAnalysis(const std::string& config_name) {
-  SCOPED_TRACE(config_name);
-  Simulation sim(loadSimulationConfig(shippedConfig(config_name)));
+void expectSingleAnalysis(const std::string& config_name, bool block_lu) {
+  SCOPED_TRACE(config_name + (block_lu ? " (block LU)" : " (KLU)"));
+  SimulationConfig config = loadSimulationConfig(shippedConfig(config_name));
+  config.solver.block_lu = block_lu;
+  Simulation sim(config);
   int factorizations = sim.stepper().totalFactorizations();
   int iterations = 0;
   for (int k = 0; k < kManySteps; ++k) {
@@ -352,16 +354,30 @@ void expectSingleAnalysis(const std::string& config_name) {
   // (docs/model.md 1.10).
   EXPECT_GE(sim.stepper().totalFactorizations(), kManySteps);
   EXPECT_LE(sim.stepper().totalFactorizations(), iterations);
-  const SparseLuSolver& lu = sim.stepper().linearSolver();
-  EXPECT_EQ(lu.numericFactorizations() + lu.refactorizations(),
-            sim.stepper().totalFactorizations());
-  EXPECT_GT(lu.refactorizations(), lu.numericFactorizations());  // pivots mostly reused
+  const JacobianSolver& solver = sim.stepper().linearSolver();
+  if (block_lu) {
+    // The robots' block pivots never need KLU's pivoting (and the block LU has no fill).
+    EXPECT_EQ(solver.blockFactorizations(), sim.stepper().totalFactorizations());
+    EXPECT_EQ(solver.blockFallbacks(), 0);
+    EXPECT_EQ(solver.blockLu().fillBlocks(), 0);
+  } else {
+    const SparseLuSolver& lu = solver.klu();
+    EXPECT_EQ(lu.numericFactorizations() + lu.refactorizations(),
+              sim.stepper().totalFactorizations());
+    EXPECT_GT(lu.refactorizations(), lu.numericFactorizations());  // pivots mostly reused
+  }
   EXPECT_TRUE(allFinite(sim.state()));
 }
 
-TEST(SymbolicReuse, OneAnalysisOverManyStepsGranular) { expectSingleAnalysis(kDesign1); }
+TEST(SymbolicReuse, OneAnalysisOverManyStepsGranular) {
+  expectSingleAnalysis(kDesign1, true);
+  expectSingleAnalysis(kDesign1, false);
+}
 
-TEST(SymbolicReuse, OneAnalysisOverManyStepsInterface) { expectSingleAnalysis(kInterfaceRobot); }
+TEST(SymbolicReuse, OneAnalysisOverManyStepsInterface) {
+  expectSingleAnalysis(kInterfaceRobot, true);
+  expectSingleAnalysis(kInterfaceRobot, false);
+}
 
 TEST(SymbolicReuse, SubdivisionAndFailureDoNotReanalyse) {
   Simulation sim(design1(kNeedsSubdivision));

@@ -217,6 +217,7 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
   o.max_subdivision_depth = r.integer("max_subdivision_depth", o.max_subdivision_depth, 0, 20);
   o.jacobian_reuse = r.number("jacobian_reuse", o.jacobian_reuse, 0.0, 1.0);
   o.extrapolate_initial_guess = r.flag("extrapolate_initial_guess", o.extrapolate_initial_guess);
+  o.block_lu = r.choice("linear_solver", "block_lu", {"block_lu", "klu"}) == "block_lu";
   o.trace = r.flag("trace", o.trace);
   r.rejectUnknown();
   // Scale-aware convergence test (docs/model.md 1.10): forces against EI/L^2, moments against EI/L.

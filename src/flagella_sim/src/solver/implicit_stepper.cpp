@@ -60,6 +60,7 @@ ImplicitStepper::ImplicitStepper(RodNetwork net, std::vector<EffectPtr> effects,
   motor_twist_ = {net_.parts.motor_spring, motor_tau_bar0_};
   attempt_viscosity_ = medium_.viscosity();
   for (bool fixed : net_.fixed_dof) any_fixed_ = any_fixed_ || fixed;
+  if (options_.block_lu) lu_.setBlocks(nodeEdgeBlocks(net_));
   for (const EffectPtr& e : effects_) {
     e->attach(net_);
     dense_ = dense_ || e->hasDenseJacobian();

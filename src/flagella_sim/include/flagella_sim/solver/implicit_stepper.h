@@ -5,9 +5,10 @@
 // backtracking line search (NewtonOptions::damped_retry), then as two half steps, recursively up
 // to NewtonOptions::max_subdivision_depth; if that fails too, SolverFailure is thrown and the
 // state is left at the last accepted step.
-// Linear solve: sparse KLU, or a dense partial-pivot LU of the whole Jacobian when an effect has a
-// dense Jacobian block (Effect::hasDenseJacobian, the RSS hydrodynamics of docs/model.md 4.4),
-// right-preconditioned so that the RSS drag is never inverted (DenseNewtonSystem).
+// Linear solve: a sparse 4x4-block LU with KLU as its fallback (JacobianSolver), or a dense
+// partial-pivot LU of the whole Jacobian when an effect has a dense Jacobian block
+// (Effect::hasDenseJacobian, the RSS hydrodynamics of docs/model.md 4.4), right-preconditioned so
+// that the RSS drag is never inverted (DenseNewtonSystem).
 #pragma once
 
 #include <memory>
@@ -21,9 +22,9 @@
 #include "flagella_sim/rod/rod_network.h"
 #include "flagella_sim/rod/rod_state.h"
 #include "flagella_sim/solver/dense_newton_system.h"
+#include "flagella_sim/solver/jacobian_solver.h"
 #include "flagella_sim/solver/newton_options.h"
 #include "flagella_sim/solver/solver_failure.h"
-#include "flagella_sim/solver/sparse_lu_solver.h"
 #include "flagella_sim/solver/step_profile.h"
 
 namespace flagella {
@@ -75,7 +76,7 @@ class ImplicitStepper {
   int totalAnalyses() const { return analyses_; }
   /// True when the Newton system is solved densely (an effect has a dense Jacobian block).
   bool denseLinearSolve() const { return dense_; }
-  const SparseLuSolver& linearSolver() const { return lu_; }
+  const JacobianSolver& linearSolver() const { return lu_; }
   /// Times the parts of every later step into `profile` (not owned; null stops profiling).
   void setProfile(StepProfile* profile) { profile_ = profile; }
 
@@ -116,7 +117,7 @@ class ImplicitStepper {
   bool any_fixed_ = false;
   SparseAssembler assembler_;
   VecX residual_, external_;
-  SparseLuSolver lu_;
+  JacobianSolver lu_;
   bool analyzed_ = false;
   bool dense_ = false;  ///< some effect has a dense Jacobian block
   DenseNewtonSystem dense_system_;

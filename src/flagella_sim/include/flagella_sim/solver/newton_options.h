@@ -33,6 +33,10 @@ struct NewtonOptions {
   /// continues the last accepted one with the same dt, the rate is extrapolated linearly from the
   /// last two steps, q(t_k) + dt (2 qdot(t_k) - qdot(t_{k-1})) (docs/model.md 1.10).
   bool extrapolate_initial_guess = true;
+  /// Sparse linear solve by the 4x4-block LU (a node's coordinates with an edge's twist per
+  /// block, no pivoting across blocks, KLU when it refuses its pivots); false: KLU always. Both
+  /// solve the same system, to round-off (docs/model.md 1.10).
+  bool block_lu = true;
   /// Print every Newton iterate's scaled residual to stderr.
   bool trace = false;
 };

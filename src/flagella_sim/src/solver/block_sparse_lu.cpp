@@ -1,0 +1,217 @@
+#include "flagella_sim/solver/block_sparse_lu.h"
+
+#include <suitesparse/amd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+namespace flagella {
+
+namespace {
+
+// Storage index of each block (row, col) of the factor pattern, created on first use.
+class BlockSlots {
+ public:
+  int at(int row, int col) {
+    const auto [it, inserted] = slots_.try_emplace({row, col}, static_cast<int>(slots_.size()));
+    return it->second;
+  }
+  int size() const { return static_cast<int>(slots_.size()); }
+
+ private:
+  std::map<std::pair<int, int>, int> slots_;
+};
+
+// Inverts a 4x4 block by LU with partial pivoting (Golub & Van Loan, Alg. 3.4.1) unrolled at
+// fixed size (Eigen's PartialPivLU::inverse() goes through its dynamic-size triangular solver);
+// widens [smallest, largest] by the pivots' magnitudes, except those of the padding slots (bit s
+// of `padding`: a unit row and column, which stay in place as pivot s). False on a zero pivot.
+bool invertBlock(const BlockSparseLu::Block& D, unsigned padding, BlockSparseLu::Block& inverse,
+                 double& smallest, double& largest) {
+  BlockSparseLu::Block lu = D;
+  int row_of[4] = {0, 1, 2, 3};  // lu's row k holds D's row row_of[k]
+  for (int k = 0; k < 4; ++k) {
+    int p = k;
+    for (int i = k + 1; i < 4; ++i)
+      if (std::abs(lu(i, k)) > std::abs(lu(p, k))) p = i;
+    if (p != k) {
+      lu.row(k).swap(lu.row(p));
+      std::swap(row_of[k], row_of[p]);
+    }
+    const double pivot = lu(k, k);
+    if (pivot == 0.0) return false;
+    if (padding & (1u << k)) continue;  // nothing below a padding pivot to eliminate
+    smallest = std::min(smallest, std::abs(pivot));
+    largest = std::max(largest, std::abs(pivot));
+    for (int i = k + 1; i < 4; ++i) {
+      lu(i, k) /= pivot;
+      for (int j = k + 1; j < 4; ++j) lu(i, j) -= lu(i, k) * lu(k, j);
+    }
+  }
+  for (int c = 0; c < 4; ++c) {  // column c of D^-1 solves L U x = P e_c
+    double x[4];
+    for (int i = 0; i < 4; ++i) {
+      x[i] = row_of[i] == c ? 1.0 : 0.0;
+      for (int j = 0; j < i; ++j) x[i] -= lu(i, j) * x[j];
+    }
+    for (int i = 3; i >= 0; --i) {
+      for (int j = i + 1; j < 4; ++j) x[i] -= lu(i, j) * x[j];
+      x[i] /= lu(i, i);
+    }
+    for (int i = 0; i < 4; ++i) inverse(i, c) = x[i];
+  }
+  return true;
+}
+
+}  // namespace
+
+void BlockSparseLu::analyze(const SparseMatrix& A, const std::vector<DofGroup>& groups) {
+  ndof_ = static_cast<int>(A.rows());
+  groups_ = groups;
+  const int nb = static_cast<int>(groups.size());
+  std::vector<int> block_of(ndof_, -1), slot_of(ndof_, -1);
+  for (int b = 0; b < nb; ++b)
+    for (int s = 0; s < 4; ++s) {
+      const int dof = groups[b][s];
+      if (dof < 0) continue;
+      if (dof >= ndof_ || block_of[dof] >= 0)
+        throw std::invalid_argument("BlockSparseLu: DOF " + std::to_string(dof) +
+                                    " out of range or in two groups");
+      block_of[dof] = b;
+      slot_of[dof] = s;
+    }
+  if (std::count(block_of.begin(), block_of.end(), -1) > 0)
+    throw std::invalid_argument("BlockSparseLu: a DOF is in no group");
+
+  // Block graph of A + A^T (off-diagonal blocks only).
+  std::vector<std::set<int>> adjacent(nb);
+  for (int col = 0; col < A.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(A, col); it; ++it) {
+      const int I = block_of[it.row()], J = block_of[col];
+      if (I == J) continue;
+      adjacent[I].insert(J);
+      adjacent[J].insert(I);
+    }
+  std::vector<int> Ap(nb + 1, 0), Ai;
+  for (int b = 0; b < nb; ++b) {
+    Ai.insert(Ai.end(), adjacent[b].begin(), adjacent[b].end());
+    Ap[b + 1] = static_cast<int>(Ai.size());
+  }
+  Ai.push_back(0);  // AMD refuses a null index array (a graph without edges); not referenced
+  order_.assign(nb, 0);
+  if (nb > 0 && amd_order(nb, Ap.data(), Ai.data(), order_.data(), nullptr, nullptr) < AMD_OK)
+    throw std::runtime_error("BlockSparseLu: AMD ordering failed");
+  std::vector<int> position(nb);
+  for (int k = 0; k < nb; ++k) position[order_[k]] = k;
+
+  // Symbolic right-looking elimination: step k removes block v = order_[k]; its neighbours still
+  // to come get L_iv = A_iv D_v^-1, and every pair of them the update A_ij -= L_iv A_vj.
+  BlockSlots slots;
+  diagonal_.assign(nb, 0);
+  for (int b = 0; b < nb; ++b) diagonal_[b] = slots.at(b, b);
+  lower_.clear();
+  upper_.clear();
+  updates_.clear();
+  lower_begin_.assign(nb + 1, 0);
+  upper_begin_.assign(nb + 1, 0);
+  update_begin_.assign(nb + 1, 0);
+  fill_blocks_ = 0;
+  for (int k = 0; k < nb; ++k) {
+    const int v = order_[k];
+    std::vector<int> later;
+    for (int u : adjacent[v])
+      if (position[u] > k) later.push_back(u);
+    lower_begin_[k] = static_cast<int>(lower_.size());
+    upper_begin_[k] = static_cast<int>(upper_.size());
+    update_begin_[k] = static_cast<int>(updates_.size());
+    for (int i : later) {
+      lower_.push_back({i, slots.at(i, v)});
+      upper_.push_back({i, slots.at(v, i)});
+    }
+    for (int i : later)
+      for (int j : later) {
+        if (i != j && adjacent[i].insert(j).second) ++fill_blocks_;
+        updates_.push_back({slots.at(i, j), slots.at(i, v), slots.at(v, j)});
+      }
+  }
+  lower_begin_[nb] = static_cast<int>(lower_.size());
+  upper_begin_[nb] = static_cast<int>(upper_.size());
+  update_begin_[nb] = static_cast<int>(updates_.size());
+
+  // Every stored entry is one value of A (each at its own place), a padding DOF's unit diagonal
+  // or zero before elimination: a factorisation gathers each from A's values followed by 0, 1.
+  nonzeros_ = static_cast<int>(A.nonZeros());
+  source_.assign(16 * static_cast<size_t>(slots.size()), nonzeros_);  // 0.0
+  int n = 0;
+  for (int col = 0; col < A.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(A, col); it; ++it, ++n)
+      source_[16 * slots.at(block_of[it.row()], block_of[col]) + 4 * slot_of[col] +
+              slot_of[it.row()]] = n;  // Eigen blocks are column-major
+  padding_.assign(nb, 0u);
+  for (int b = 0; b < nb; ++b)
+    for (int s = 0; s < 4; ++s)
+      if (groups[b][s] < 0) {
+        source_[16 * diagonal_[b] + 5 * s] = nonzeros_ + 1;  // 1.0
+        padding_[b] |= 1u << s;
+      }
+  values_.assign(nonzeros_ + 2, 0.0);
+  values_[nonzeros_ + 1] = 1.0;
+  blocks_.assign(slots.size(), Block::Zero());
+  inverse_diagonal_.assign(nb, Block::Zero());
+  work_.assign(nb, Eigen::Vector4d::Zero());
+}
+
+bool BlockSparseLu::factorize(const SparseMatrix& A, double min_pivot_ratio) {
+  if (A.nonZeros() != nonzeros_)
+    throw std::logic_error("BlockSparseLu::factorize: pattern differs from the analysed one");
+  std::copy(A.valuePtr(), A.valuePtr() + nonzeros_, values_.begin());
+  double* storage = blocks_.empty() ? nullptr : blocks_[0].data();
+  for (size_t offset = 0; offset < source_.size(); ++offset)
+    storage[offset] = values_[source_[offset]];
+  double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
+  const int nb = numBlocks();
+  for (int k = 0; k < nb; ++k) {
+    if (!invertBlock(blocks_[diagonal_[order_[k]]], padding_[order_[k]], inverse_diagonal_[k],
+                     smallest, largest) ||
+        !std::isfinite(largest))
+      return false;
+    for (int n = lower_begin_[k]; n < lower_begin_[k + 1]; ++n) {
+      Block& L = blocks_[lower_[n][1]];
+      L = (L * inverse_diagonal_[k]).eval();
+    }
+    for (int n = update_begin_[k]; n < update_begin_[k + 1]; ++n) {
+      const Update& u = updates_[n];
+      blocks_[u.target].noalias() -= blocks_[u.lower] * blocks_[u.upper];
+    }
+  }
+  return smallest >= min_pivot_ratio * largest;
+}
+
+VecX BlockSparseLu::solve(const VecX& b) {
+  const int nb = numBlocks();
+  for (int k = 0; k < nb; ++k)
+    for (int s = 0; s < 4; ++s) work_[k](s) = groups_[k][s] >= 0 ? b(groups_[k][s]) : 0.0;
+  for (int k = 0; k < nb; ++k) {  // L y = b
+    const Eigen::Vector4d& yv = work_[order_[k]];
+    for (int n = lower_begin_[k]; n < lower_begin_[k + 1]; ++n)
+      work_[lower_[n][0]].noalias() -= blocks_[lower_[n][1]] * yv;
+  }
+  for (int k = nb - 1; k >= 0; --k) {  // U x = y
+    Eigen::Vector4d r = work_[order_[k]];
+    for (int n = upper_begin_[k]; n < upper_begin_[k + 1]; ++n)
+      r.noalias() -= blocks_[upper_[n][1]] * work_[upper_[n][0]];
+    work_[order_[k]].noalias() = inverse_diagonal_[k] * r;
+  }
+  VecX x(ndof_);
+  for (int k = 0; k < nb; ++k)
+    for (int s = 0; s < 4; ++s)
+      if (groups_[k][s] >= 0) x(groups_[k][s]) = work_[k](s);
+  return x;
+}
+
+}  // namespace flagella
