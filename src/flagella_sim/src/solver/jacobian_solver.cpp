@@ -2,12 +2,6 @@
 
 namespace flagella {
 
-namespace {
-// A block factorisation whose smallest pivot is below this times its largest is refused, the
-// threshold below which SparseLuSolver re-pivots a refactorisation.
-constexpr double kMinPivotRatio = 1e-13;
-}  // namespace
-
 void JacobianSolver::setBlocks(std::vector<BlockSparseLu::DofGroup> groups) {
   groups_ = std::move(groups);
   block_ = BlockSparseLu();
@@ -15,13 +9,13 @@ void JacobianSolver::setBlocks(std::vector<BlockSparseLu::DofGroup> groups) {
 
 void JacobianSolver::analyze(const SparseMatrix& A) {
   if (!groups_.empty()) block_.analyze(A, groups_);
-  klu_analyzed_ = false;  // analysed on KLU's first use
+  klu_.analyze(A);
 }
 
 bool JacobianSolver::factorize(const SparseMatrix& A) {
   if (!groups_.empty()) {
-    if (!block_.analyzed()) block_.analyze(A, groups_);
-    if (block_.factorize(A, kMinPivotRatio)) {
+    // Refused below the pivot ratio at which KLU itself re-pivots.
+    if (block_.factorize(A, SparseLuSolver::kMinPivotRatio)) {
       ++block_factorizations_;
       last_was_block_ = true;
       return true;
@@ -29,10 +23,6 @@ bool JacobianSolver::factorize(const SparseMatrix& A) {
     ++block_fallbacks_;
   }
   last_was_block_ = false;
-  if (!klu_analyzed_) {
-    klu_.analyze(A);
-    klu_analyzed_ = true;
-  }
   return klu_.factorize(A);
 }
 

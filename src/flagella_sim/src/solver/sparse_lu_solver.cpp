@@ -6,12 +6,6 @@
 
 namespace flagella {
 
-namespace {
-// Below this reciprocal pivot growth / condition estimate the reused pivot order is distrusted
-// and a fresh pivoting factorisation is made.
-constexpr double kMinReciprocalCondition = 1e-13;
-}  // namespace
-
 struct SparseLuSolver::Impl {
   klu_common common;
   klu_symbolic* symbolic = nullptr;
@@ -55,7 +49,7 @@ bool SparseLuSolver::factorize(const SparseMatrix& A) {
   if (impl_->numeric) {
     if (klu_refactor(Ap, Ai, Ax, impl_->symbolic, impl_->numeric, &impl_->common) &&
         klu_rcond(impl_->symbolic, impl_->numeric, &impl_->common) &&
-        impl_->common.rcond > kMinReciprocalCondition) {
+        impl_->common.rcond > kMinPivotRatio) {
       ++refactorizations_;
       return true;
     }

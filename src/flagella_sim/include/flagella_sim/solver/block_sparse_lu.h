@@ -25,7 +25,6 @@ class BlockSparseLu {
   /// Symbolic analysis of A's pattern with the DOFs grouped into `groups` (every DOF of A in
   /// exactly one group; throws std::invalid_argument otherwise).
   void analyze(const SparseMatrix& A, const std::vector<DofGroup>& groups);
-  bool analyzed() const { return !order_.empty(); }
   /// Numeric factorisation of A (same pattern as analysed); false if a pivot block is singular
   /// or its pivots are below `min_pivot_ratio` times the largest pivot, or a value is not finite.
   bool factorize(const SparseMatrix& A, double min_pivot_ratio);

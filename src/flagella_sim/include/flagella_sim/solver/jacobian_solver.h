@@ -16,7 +16,8 @@ class JacobianSolver {
  public:
   /// DOF groups for the block LU (see BlockSparseLu); empty: KLU only.
   void setBlocks(std::vector<BlockSparseLu::DofGroup> groups);
-  /// Symbolic analysis for A's pattern (call when it changes).
+  /// Symbolic analysis for A's pattern (call before the first factorisation and whenever the
+  /// pattern changes).
   void analyze(const SparseMatrix& A);
   /// Numeric factorisation; false if A is singular for KLU too.
   bool factorize(const SparseMatrix& A);
@@ -33,7 +34,6 @@ class JacobianSolver {
   std::vector<BlockSparseLu::DofGroup> groups_;
   BlockSparseLu block_;
   SparseLuSolver klu_;
-  bool klu_analyzed_ = false;
   bool last_was_block_ = false;
   int block_factorizations_ = 0;
   int block_fallbacks_ = 0;

@@ -10,6 +10,10 @@ namespace flagella {
 
 class SparseLuSolver {
  public:
+  /// Below this reciprocal pivot ratio (KLU's rcond: smallest |U_kk| over largest) a reused pivot
+  /// order is distrusted and a fresh pivoting factorisation is made.
+  static constexpr double kMinPivotRatio = 1e-13;
+
   SparseLuSolver();
   ~SparseLuSolver();
   SparseLuSolver(const SparseLuSolver&) = delete;
