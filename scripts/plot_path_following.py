@@ -1,7 +1,10 @@
 #!/usr/bin/env python3
 """Plot a recorded path-following session: the reference path (as the controller anchored it)
 and the true head path, with the camera fixes. Prints the cross-track error.
-  plot_path_following.py SESSION.bag --out square.png [--robot flagella] [--tail-length 0.11]"""
+  plot_path_following.py SESSION.bag --out square.png [--robot flagella] [--tail-length 0.11]
+      [--bound bound.json]
+--bound: flagella_tracking_bound's --json for the same path and calibration; the bound is then
+printed beside the result, in the title and in the summary."""
 import argparse
 import json
 import os
@@ -45,7 +48,15 @@ def main():
     parser.add_argument("--tail-length", type=float, default=0.11, help="l [m], the unit of the printed errors")
     parser.add_argument("--shown-as", help="the plot's path to print (when the caller moves it there afterwards)")
     parser.add_argument("--summary", help="also write the figures as JSON here")
+    parser.add_argument("--bound", help="tracking bound JSON (flagella_tracking_bound --json)")
     args = parser.parse_args()
+    bound = None
+    if args.bound:
+        with open(args.bound) as f:
+            bound = json.load(f)
+        for key in ("bound_max_mm", "bound_rms_mm"):
+            if not isinstance(bound.get(key), (int, float)) or not bound[key] > 0:
+                sys.exit("plot_path_following: %s: '%s' must be a positive number" % (args.bound, key))
 
     reference, head, fixes, status = read_bag(args.bag, args.robot)
     if not reference or not head:
@@ -69,9 +80,15 @@ def main():
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
-    ax.set_title("%s: max cross-track %.1f mm (%.2f l), RMS %.1f mm (%.2f l)%s"
+    bound_text = ""
+    if bound:
+        bound_text = ("tracking bound max %.1f mm, RMS %.1f mm (result / bound: %.2f, %.2f)"
+                      % (bound["bound_max_mm"], bound["bound_rms_mm"], 1e3 * max_err / bound["bound_max_mm"],
+                         1e3 * rms_err / bound["bound_rms_mm"]))
+    ax.set_title("%s: max cross-track %.1f mm (%.2f l), RMS %.1f mm (%.2f l)%s%s"
                  % (controller, 1e3 * max_err, max_err / args.tail_length, 1e3 * rms_err,
-                    rms_err / args.tail_length, "" if finished else ", NOT finished"), fontsize=9)
+                    rms_err / args.tail_length, "" if finished else ", NOT finished",
+                    "\n" + bound_text if bound_text else ""), fontsize=9)
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize=8)
     fig.tight_layout()
@@ -82,11 +99,16 @@ def main():
                "max_cross_track_tail_lengths": max_err / args.tail_length,
                "rms_cross_track_tail_lengths": rms_err / args.tail_length,
                "head_samples": len(run), "camera_fixes": len(fixes)}
+    if bound:
+        figures.update({"bound_max_cross_track_m": 1e-3 * bound["bound_max_mm"],
+                        "bound_rms_cross_track_m": 1e-3 * bound["bound_rms_mm"],
+                        "max_over_bound": 1e3 * max_err / bound["bound_max_mm"],
+                        "rms_over_bound": 1e3 * rms_err / bound["bound_rms_mm"]})
     print("path following (%s): %s in %.0f s of simulated time; cross-track error max %.1f mm (%.2f l), "
-          "RMS %.1f mm (%.2f l); plot: %s"
+          "RMS %.1f mm (%.2f l)%s; plot: %s"
           % (controller, "complete" if finished else "NOT complete", end - start, 1e3 * max_err,
              max_err / args.tail_length, 1e3 * rms_err, rms_err / args.tail_length,
-             args.shown_as or args.out))
+             "; " + bound_text if bound_text else "", args.shown_as or args.out))
     if args.summary:
         with open(args.summary, "w") as f:
             json.dump(figures, f, indent=2)

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job: set up, build, and run a headless ROS session in which the interface robot
-# follows a square with the closed-loop path follower (launch/path_following.launch, IMU and
-# camera noise, lockstep), records a bag and plots the reference and the actual head path.
+# follows a square with the receding-horizon path follower (launch/path_following.launch, IMU and
+# camera noise, lockstep), records a bag, plots the reference and the actual head path and prints
+# the cross-track error beside the path's tracking bound (flagella_tracking_bound).
 # Outputs in out/main/: path_following.bag, path_following.png, summary.json, replaced only when
 # the whole run succeeds (a failed or refused run leaves the previous ones as they were).
 # Extra roslaunch arguments NAME:=VALUE are passed on, e.g. mode:=open_loop or
@@ -19,7 +20,7 @@ usage() {
   cat <<USAGE
 Usage: bash scripts/run_main.sh [NAME:=VALUE ...]
 Sets up and builds the workspace, runs launch/path_following.launch headless with a recorded bag,
-plots the paths and prints the cross-track error. Outputs in out/main/ (bag, plot, summary.json),
+plots the paths and prints the cross-track error beside the tracking bound. Outputs in out/main/ (bag, plot, summary.json),
 replaced only when the run succeeds.
 Arguments of the launch file (record and bag are set by this script):
 USAGE
@@ -66,9 +67,27 @@ if [[ ! -s "$STAGE/path_following.bag" ]]; then
   echo "run_main: the session left no bag (see the roslaunch output above); $OUT unchanged" >&2
   exit 1
 fi
+# The tracking bound of the path on the calibration the controller used (docs/model.md 7.5).
+calibration="$ROOT/config/calibration/interface_path_planning.yaml"
+path="$ROOT/config/paths/square.yaml"
+for arg in "$@"; do
+  case "$arg" in
+    calibration:=*) calibration="${arg#calibration:=}" ;;
+    path:=*) path="${arg#path:=}" ;;
+  esac
+done
+bound_args=()
+if [[ -z "$path" ]]; then
+  echo "run_main: no path file (the path came on the 'path' topic): no tracking bound"
+elif "$ROOT/devel/bin/flagella_tracking_bound" --calibration "$calibration" --path "$path" \
+  --json "$STAGE/bound.json"; then
+  bound_args=(--bound "$STAGE/bound.json")
+else
+  echo "run_main: the tracking bound failed (see above); the summary goes without it" >&2
+fi
 if ! /usr/bin/python3 "$ROOT/scripts/plot_path_following.py" "$STAGE/path_following.bag" \
   --out "$STAGE/path_following.png" --summary "$STAGE/summary.json" \
-  --shown-as "$OUT/path_following.png"; then
+  --shown-as "$OUT/path_following.png" "${bound_args[@]}"; then
   echo "run_main: plotting the session failed; $OUT unchanged" >&2
   exit 1
 fi

@@ -32,9 +32,10 @@ std::uint8_t toStatusMode(ControllerMode mode) {
 }  // namespace
 
 PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
-  mode_ = param<std::string>(pnh, "mode", "closed_loop");
-  if (mode_ != "closed_loop" && mode_ != "open_loop")
-    throw std::invalid_argument("~mode must be 'closed_loop' or 'open_loop', got '" + mode_ + "'");
+  mode_ = param<std::string>(pnh, "mode", "receding_horizon");
+  if (mode_ != "receding_horizon" && mode_ != "closed_loop" && mode_ != "open_loop")
+    throw std::invalid_argument(
+        "~mode must be 'receding_horizon', 'closed_loop' or 'open_loop', got '" + mode_ + "'");
   world_frame_ = param<std::string>(pnh, "world_frame", "world");
   const std::string calibration_file = fileParam(pnh, "calibration");
   if (calibration_file.empty())
@@ -51,17 +52,23 @@ PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   gains_.sensor_fault_timeout = param(pnh, "sensor_fault_timeout", gains_.sensor_fault_timeout);
   gains_.finish_tolerance = param(pnh, "finish_tolerance", gains_.finish_tolerance);
   gains_.validate();
+  horizon_gains_.horizon = param(pnh, "horizon", horizon_gains_.horizon);
+  horizon_gains_.fallback_distance =
+      param(pnh, "fallback_distance", horizon_gains_.fallback_distance);
+  horizon_gains_.adapt = param(pnh, "adapt", horizon_gains_.adapt);
+  horizon_gains_.validate();
   status_period_ = statusPeriod(pnh);
   exit_when_finished_ = param(pnh, "exit_when_finished", false);
   linger_ = param(pnh, "linger", 1.0);
 
+  // The controller first (the receding-horizon one plans for seconds): a lockstep simulator
+  // starts once motor_command has a publisher, and the IMU sample it then sends must be heard.
+  const std::string path_file = fileParam(pnh, "path");
+  if (!path_file.empty()) build(flagella::control::loadPathSpec(path_file));
   motor_pub_ = nh.advertise<flagella_msgs::MotorCommand>("motor_command", kQueue);
   status_pub_ = nh.advertise<flagella_msgs::ControllerStatus>("controller_status", kQueue);
   reference_pub_ = nh.advertise<nav_msgs::Path>("reference_path", 1, /*latch=*/true);
-  const std::string path_file = fileParam(pnh, "path");
-  if (!path_file.empty()) {
-    build(flagella::control::loadPathSpec(path_file));
-  } else {
+  if (path_file.empty()) {
     path_sub_ = nh.subscribe("path", 1, &PathFollowerNode::onPath, this);
     ROS_INFO("flagella_path_follower: no ~path file; waiting for a nav_msgs/Path on %s",
              path_sub_.getTopic().c_str());
@@ -73,12 +80,21 @@ PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
 
 void PathFollowerNode::build(flagella::control::PathSpec spec) {
   ROS_INFO("flagella_path_follower: %s, %s", mode_.c_str(), spec.description.c_str());
-  if (mode_ == "open_loop")
+  if (mode_ == "open_loop") {
     controller_ =
         std::make_unique<flagella::control::ScheduleController>(std::move(spec), calibration_);
-  else
+  } else if (mode_ == "receding_horizon") {
+    auto controller = std::make_unique<flagella::control::RecedingHorizonController>(
+        std::move(spec), calibration_, horizon_gains_, gains_);
+    ROS_INFO(
+        "flagella_path_follower: planned on the calibrated model: tracking bound max %.1f mm, "
+        "RMS %.1f mm",
+        1e3 * controller->bound().best_max.max_error, 1e3 * controller->bound().best_rms.rms_error);
+    controller_ = std::move(controller);
+  } else {
     controller_ = std::make_unique<flagella::control::PathFollowingController>(
         std::move(spec), calibration_, gains_);
+  }
   reference_published_ = false;
 }
 

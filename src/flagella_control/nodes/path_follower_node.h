@@ -14,6 +14,7 @@
 
 #include "controller_node_io.h"
 #include "flagella_control/path_controllers.h"
+#include "flagella_control/receding_horizon_controller.h"
 
 namespace flagella::control::node {
 
@@ -35,6 +36,7 @@ class PathFollowerNode {
   std::string mode_, world_frame_;
   flagella::control::BinaryCalibration calibration_;
   flagella::control::PathFollowingGains gains_;
+  flagella::control::RecedingHorizonGains horizon_gains_;
   std::unique_ptr<flagella::control::PathControllerBase> controller_;
   flagella::control::ControllerInputs inputs_;
   PendingFix fix_;

@@ -14,6 +14,9 @@
 
 #include "flagella_control/lcm_harness.h"
 #include "flagella_control/path_controllers.h"
+#include "flagella_control/receding_horizon_controller.h"
+#include "flagella_control/timed_controller.h"
+#include "flagella_control/tracking_bound_report.h"
 #include "flagella_control/tracking_metrics.h"
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/units.h"
@@ -32,6 +35,7 @@ int main(int argc, char** argv) {
   double max_duration = 3000.0, sample_interval = 0.5;
   flagella::control::HarnessOptions options;
   flagella::control::PathFollowingGains gains;
+  flagella::control::RecedingHorizonGains horizon_gains;
   flagella::SessionOptions session_options;
   session_options.initial_motor = "stopped";
   app.add_option("config", config_path, "robot config YAML")->required()->check(CLI::ExistingFile);
@@ -41,8 +45,8 @@ int main(int argc, char** argv) {
   app.add_option("--path", path_path, "path YAML (config/paths)")
       ->required()
       ->check(CLI::ExistingFile);
-  app.add_option("--mode", mode, "closed_loop or open_loop")
-      ->check(CLI::IsMember({"closed_loop", "open_loop"}));
+  app.add_option("--mode", mode, "receding_horizon, closed_loop or open_loop")
+      ->check(CLI::IsMember({"receding_horizon", "closed_loop", "open_loop"}));
   app.add_option("--set", overrides, "config override a.b=value (repeatable), e.g. a model error");
   app.add_option("--max-duration", max_duration, "give up after this many simulated seconds")
       ->check(CLI::PositiveNumber);
@@ -52,9 +56,19 @@ int main(int argc, char** argv) {
   app.add_option("--camera-rate", session_options.camera.rate, "camera fixes per second [Hz]");
   app.add_option("--camera-noise", session_options.camera.noise_std, "camera noise std [m]");
   app.add_option("--seed", session_options.imu.seed, "noise seed (IMU; camera uses seed + 1)");
+  app.add_option("--horizon", horizon_gains.horizon,
+                 "receding horizon: switching periods looked ahead (1..3)");
+  app.add_option("--heading-weight", horizon_gains.heading_weight,
+                 "receding horizon: metres a radian of heading error counts as");
+  app.add_option("--path-weight", horizon_gains.path_weight,
+                 "receding horizon: weight of the predicted distance to the path");
   app.add_option("--lookahead", gains.lookahead, "closed loop: lookahead [m]");
   app.add_option("--heading-gain", gains.heading_gain,
                  "closed loop: course error share per period");
+  bool with_bound = true;
+  app.add_flag("--bound,!--no-bound", with_bound,
+               "print the tracking bound of the path beside the result (default on; a few "
+               "seconds)");
   app.add_option("--csv", csv_path, "write t, true and estimated head position, command as CSV");
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
 
@@ -68,10 +82,15 @@ int main(int argc, char** argv) {
     std::unique_ptr<flagella::control::PathControllerBase> controller;
     if (mode == "open_loop")
       controller = std::make_unique<flagella::control::ScheduleController>(spec, calibration);
+    else if (mode == "receding_horizon")
+      controller = std::make_unique<flagella::control::RecedingHorizonController>(
+          spec, calibration, horizon_gains, gains);
     else
       controller =
           std::make_unique<flagella::control::PathFollowingController>(spec, calibration, gains);
-    flagella::control::LcmHarness harness(session, *controller, options);
+    flagella::control::TimedController timed(
+        *controller, static_cast<std::size_t>(max_duration * session_options.imu.rate) + 1);
+    flagella::control::LcmHarness harness(session, timed, options);
 
     flagella::control::TrackingStats stats;
     std::ofstream csv;
@@ -119,6 +138,18 @@ int main(int argc, char** argv) {
         "(%.3f l), %ld samples\n",
         flagella::units::metresToMm(stats.max_abs), stats.max_abs / l,
         flagella::units::metresToMm(stats.rms()), stats.rms() / l, stats.samples);
+    std::printf(
+        "controller compute time per step (%zu steps): median %.1f us, 99.9th percentile %.1f "
+        "us, max %.2f ms\n",
+        timed.steps(), 1e6 * timed.quantile(0.5), 1e6 * timed.quantile(0.999), 1e3 * timed.max());
+    if (with_bound && controller->status().anchored) {
+      // docs/model.md 7.5: the best any switching schedule does on the calibrated model
+      const flagella::control::TrackingBound bound =
+          flagella::control::computeTrackingBound(controller->worldPath(), spec.laps, calibration);
+      std::printf("%s; result / bound: max %.2f, RMS %.2f\n",
+                  flagella::control::describeBound(bound, l).c_str(),
+                  stats.max_abs / bound.best_max.max_error, stats.rms() / bound.best_rms.rms_error);
+    }
     return report.halted ? 3 : finished ? 0 : 4;
   });
 }

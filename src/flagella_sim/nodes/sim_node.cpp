@@ -316,13 +316,16 @@ bool SimNode::lockstepReady() {
     awaiting_command_ = false;
     return true;
   }
-  if ((ros::WallTime::now() - await_wall_start_).toSec() > options_.lockstep_timeout) {
+  // A controller not heard from yet may still be starting up (planning a path, say): it gets
+  // wait_timeout, one that stalls mid-run lockstep_timeout.
+  const bool starting = !motor_stamp_.seen || (options_.lockstep_slider && !slider_stamp_.seen);
+  const double limit = starting ? options_.wait_timeout : options_.lockstep_timeout;
+  if ((ros::WallTime::now() - await_wall_start_).toSec() > limit) {
     ++lockstep_timeouts_;
     ROS_WARN(
         "flagella_sim: lockstep: no %s stamped >= %.6f s within %.3f s of wall time; stepping "
         "on (the command failsafe applies)",
-        motor_answered ? "slider_command" : "motor_command", awaited_stamp_.toSec(),
-        options_.lockstep_timeout);
+        motor_answered ? "slider_command" : "motor_command", awaited_stamp_.toSec(), limit);
     awaiting_command_ = false;
     return true;
   }

@@ -39,7 +39,8 @@ struct SimNodeOptions {
   /// Hold t = 0 until a message on this topic (flagella_record's latched ~ready); "" = no wait.
   std::string wait_for_recorder;
   /// Software in the loop: after an IMU sample stamped t, hold the next step until a
-  /// motor_command stamped >= t has arrived (or lockstep_timeout wall seconds have passed).
+  /// motor_command stamped >= t has arrived (or lockstep_timeout wall seconds have passed;
+  /// wait_timeout before the first command: the controller may still be starting).
   bool lockstep = false;
   /// Lockstep also waits for a slider_command stamped >= t (a controller that commands the
   /// slider every step): the step then never depends on which command the network delivers first.

@@ -19,10 +19,10 @@ namespace flagella::control {
 
 /// What a path-following controller knows about its progress (for ControllerStatus).
 struct PathStatus {
-  bool anchored = false;     ///< the path has been placed in the world
-  int element = 0;           ///< current path element
-  double progress = 0.0;     ///< fraction of the whole run (all laps), 0..1
-  double cross_track = 0.0;  ///< estimated, left of the path > 0 [m]
+  bool anchored = false;       ///< the path has been placed in the world
+  int element = 0;             ///< current path element
+  double progress = 0.0;       ///< fraction of the whole run (all laps), 0..1
+  double cross_track = 0.0;    ///< estimated, left of the path > 0 [m]
   double heading_error = 0.0;  ///< desired minus estimated course [rad]
   bool imu_stale = false, fix_stale = false;
   bool mode_finished = false;  ///< the run is over (the motor stays stopped until reset)
@@ -76,16 +76,16 @@ class ScheduleController : public PathControllerBase {
 };
 
 struct PathFollowingGains {
-  double lookahead = 0.1;          ///< line-of-sight distance Delta [m]
+  double lookahead = 0.1;               ///< line-of-sight distance Delta [m]
   double cross_track_integral = 0.002;  ///< ILOS integral gain [1/s]
-  double heading_gain = 0.5;       ///< share of the course error corrected per period (0..1)
-  double fix_gain = 0.3;           ///< camera blend: p += gain (fix - p)
-  double min_pulse = 0.5;          ///< shortest half-period worth switching [s]
-  double search_window = 0.15;     ///< nearest-point search ahead of the progress point [m]
-  double imu_timeout = 0.5;        ///< IMU older than this: heading dead-reckoned [s]
-  double fix_timeout = 5.0;        ///< camera older than this: position dead-reckoned [s]
-  double sensor_fault_timeout = 30.0;  ///< no IMU for this long: fault, motor stopped [s]
-  double finish_tolerance = 0.02;  ///< open path: finished within this of its end [m]
+  double heading_gain = 0.5;            ///< share of the course error corrected per period (0..1)
+  double fix_gain = 0.3;                ///< camera blend: p += gain (fix - p)
+  double min_pulse = 0.5;               ///< shortest half-period worth switching [s]
+  double search_window = 0.15;          ///< nearest-point search ahead of the progress point [m]
+  double imu_timeout = 0.5;             ///< IMU older than this: heading dead-reckoned [s]
+  double fix_timeout = 5.0;             ///< camera older than this: position dead-reckoned [s]
+  double sensor_fault_timeout = 30.0;   ///< no IMU for this long: fault, motor stopped [s]
+  double finish_tolerance = 0.02;       ///< open path: finished within this of its end [m]
   /// Throws std::invalid_argument naming the field and its range.
   void validate() const;
 };
@@ -105,6 +105,9 @@ class PathFollowingController : public PathControllerBase {
   /// Estimated head position and heading (world).
   const Vec2& estimatedPosition() const { return position_; }
   double estimatedHeading() const { return heading_; }
+  /// The sign actually applied from this step on, when another controller overrides this one's
+  /// command (its dead reckoning then uses the true sign).
+  void overrideAppliedSign(int sign) { applied_sign_ = sign >= 0 ? 1 : -1; }
 
  private:
   void onAnchored(const ControllerInputs& in, double heading) override;
