@@ -243,6 +243,7 @@ void TrackingBoundOptions::validate() const {
   requireRange("largest_cap", largest_cap, first_cap, 100.0);
   requireRange("cap_tolerance", cap_tolerance, 1e-6, 1.0);
   requireRange("rms_error_cap_factor", rms_error_cap_factor, 1.0, 100.0);
+  requireRange("plan_error_cap_factor", plan_error_cap_factor, 1.0, 100.0);
   requireRange("finish_tolerance", finish_tolerance, 0.0, 1.0);
   requireRange("rms_time_factor", rms_time_factor, 1.0, 10.0);
   requireRange("max_duration", max_duration, 1e-3, 1e6);
@@ -289,9 +290,17 @@ TrackingBound computeTrackingBound(const Path& path, int laps, const BinaryCalib
       search.run(Objective::RmsError, options.rms_error_cap_factor * bound.best_max.max_error,
                  std::min(options.max_duration, options.rms_time_factor * bound.best_max.duration),
                  bound.states_expanded);
-  // The max error's schedule is a candidate too (the RMS search may lose it to its pruning).
-  if (!bound.best_rms.complete || bound.best_max.rms_error < bound.best_rms.rms_error)
-    bound.best_rms = bound.best_max;
+  // The plan: the RMS search again, in the tighter tube.
+  bound.plan =
+      search.run(Objective::RmsError, options.plan_error_cap_factor * bound.best_max.max_error,
+                 std::min(options.max_duration, options.rms_time_factor * bound.best_max.duration),
+                 bound.states_expanded);
+  // Each schedule found is a candidate for the others' objectives (a pruned search is not
+  // monotone in its tube: the tighter one has found a smaller RMS).
+  if (!bound.plan.complete || bound.best_max.rms_error < bound.plan.rms_error)
+    bound.plan = bound.best_max;
+  if (!bound.best_rms.complete || bound.plan.rms_error < bound.best_rms.rms_error)
+    bound.best_rms = bound.plan;
   return bound;
 }
 

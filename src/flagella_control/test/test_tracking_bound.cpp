@@ -128,13 +128,17 @@ TEST(DeadTimeModel, ScaledResponses) {
 TEST(TrackingBound, ScheduleFlownAgainGivesTheReportedErrors) {
   const fc::BinaryCalibration c = fc::loadCalibration(kCalibration);
   const fc::Path path = square(0.3);
-  const fc::TrackingBound bound = fc::computeTrackingBound(path, 1, c);
+  const fc::TrackingBoundOptions options;
+  const fc::TrackingBound bound = fc::computeTrackingBound(path, 1, c, options);
   ASSERT_TRUE(bound.best_max.complete);
   ASSERT_TRUE(bound.best_rms.complete);
+  ASSERT_TRUE(bound.plan.complete);
   EXPECT_LE(bound.best_rms.rms_error, bound.best_max.rms_error);
   EXPECT_LE(bound.best_max.max_error, bound.best_rms.max_error);
+  // The plan stays in its tube about the max bound.
+  EXPECT_LE(bound.plan.max_error, options.plan_error_cap_factor * bound.best_max.max_error);
   const fc::DeadTimeModel model(c);
-  for (const fc::BoundSchedule* s : {&bound.best_max, &bound.best_rms}) {
+  for (const fc::BoundSchedule* s : {&bound.best_max, &bound.best_rms, &bound.plan}) {
     // Fly the schedule with the model, sampled every 0.5 s, and measure as TrackingStats does.
     const fc::PathPoint start = path.at(0.0);
     Vec2 p = start.position;

@@ -30,7 +30,7 @@ constexpr double kProgressPeriod = 10.0;  // [s wall] between progress lines on 
 
 int main(int argc, char** argv) {
   CLI::App app{"Path following over LCM: core simulator + controller core (no ROS)"};
-  std::string config_path, calibration_path, path_path, mode = "closed_loop", csv_path;
+  std::string config_path, calibration_path, path_path, mode = "receding_horizon", csv_path;
   std::vector<std::string> overrides;
   double max_duration = 3000.0, sample_interval = 0.5;
   flagella::control::HarnessOptions options;

@@ -1,7 +1,8 @@
 // Receding-horizon path following near the tracking bound (docs/model.md 7.5; ControllerCore
 // contract: fixed step, no heap allocation in step(), binary output).
 // At construction the bound's search (tracking_bound.h) plans the schedule of the smallest RMS
-// error on the calibrated model, with perfect state. Running, the pose estimate of the
+// error whose max error stays within 5 % of the max bound, on the calibrated model, with perfect
+// state. Running, the pose estimate of the
 // line-of-sight controller (PathFollowingController, run alongside) is matched to the plan once
 // per switching period, and the share of +omega of the period begun is the first of the
 // `horizon` shares whose predicted head path (DeadTimeModel) stays closest to the plan's next
@@ -47,7 +48,7 @@ class RecedingHorizonController : public PathControllerBase {
   /// Periods decided by the plan and by the fallback so far.
   long plannedPeriods() const { return planned_periods_; }
   long fallbackPeriods() const { return fallback_periods_; }
-  /// The tracking bound the plan came from (its best_rms schedule is the plan).
+  /// The tracking bound the plan came from (its `plan` schedule is the plan).
   const TrackingBound& bound() const { return bound_; }
   /// Measured / modelled turn of the held signs (1: the calibration is right).
   double responseScale() const { return response_scale_; }

@@ -32,6 +32,9 @@ struct TrackingBoundOptions {
   /// otherwise dilute the RMS without end).
   double rms_time_factor = 1.1;
   double max_duration = 4000.0;  ///< give up after this long [s]
+  /// The plan (TrackingBound::plan): the smallest RMS whose max error stays within this factor
+  /// of the max bound (a controller's reference good in both).
+  double plan_error_cap_factor = 1.05;
   /// Throws std::invalid_argument naming the field and its allowed range.
   void validate() const;
 };
@@ -49,6 +52,7 @@ struct BoundSchedule {
 struct TrackingBound {
   BoundSchedule best_max;  ///< the schedule of the smallest max error
   BoundSchedule best_rms;  ///< the schedule of the smallest RMS error
+  BoundSchedule plan;      ///< smallest RMS within plan_error_cap_factor of the max bound
   long states_expanded = 0;
   double dead_time = 0.0;           ///< of the model (DeadTimeModel) [s]
   double direction_mismatch = 0.0;  ///< measured minus modelled advance direction [rad]
