@@ -4,10 +4,10 @@
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
-#include <string>
 #include <unordered_map>
 
 #include "flagella_control/switching_model.h"
+#include "flagella_control/validation.h"
 
 namespace flagella::control {
 namespace {
@@ -36,12 +36,7 @@ struct Finished {
   std::vector<Vec2> tail;  // samples of the last, partial period
 };
 
-void requireRange(const char* field, double value, double lo, double hi) {
-  if (!(value >= lo && value <= hi))
-    throw std::invalid_argument(std::string("tracking bound: ") + field + " must be in [" +
-                                std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-                                std::to_string(value));
-}
+const char* const kOptions = "tracking bound";
 
 bool better(Objective objective, const SearchState& a, const SearchState& b) {
   if (objective == Objective::MaxError)
@@ -233,20 +228,20 @@ class BoundSearch {
 }  // namespace
 
 void TrackingBoundOptions::validate() const {
-  requireRange("duty_steps", duty_steps, 1, 1000);
-  requireRange("sample_interval", sample_interval, 1e-3, 1e3);
-  requireRange("progress_cell", progress_cell, 1e-5, 1.0);
-  requireRange("cross_track_cell", cross_track_cell, 1e-5, 1.0);
-  requireRange("heading_cell", heading_cell, 1e-4, 1.0);
-  requireRange("states_per_progress", states_per_progress, 1, 10000);
-  requireRange("first_cap", first_cap, 1e-5, 10.0);
-  requireRange("largest_cap", largest_cap, first_cap, 100.0);
-  requireRange("cap_tolerance", cap_tolerance, 1e-6, 1.0);
-  requireRange("rms_error_cap_factor", rms_error_cap_factor, 1.0, 100.0);
-  requireRange("plan_error_cap_factor", plan_error_cap_factor, 1.0, 100.0);
-  requireRange("finish_tolerance", finish_tolerance, 0.0, 1.0);
-  requireRange("rms_time_factor", rms_time_factor, 1.0, 10.0);
-  requireRange("max_duration", max_duration, 1e-3, 1e6);
+  requireInRange(kOptions, "duty_steps", duty_steps, 1, 1000);
+  requireInRange(kOptions, "sample_interval", sample_interval, 1e-3, 1e3);
+  requireInRange(kOptions, "progress_cell", progress_cell, 1e-5, 1.0);
+  requireInRange(kOptions, "cross_track_cell", cross_track_cell, 1e-5, 1.0);
+  requireInRange(kOptions, "heading_cell", heading_cell, 1e-4, 1.0);
+  requireInRange(kOptions, "states_per_progress", states_per_progress, 1, 10000);
+  requireInRange(kOptions, "first_cap", first_cap, 1e-5, 10.0);
+  requireInRange(kOptions, "largest_cap", largest_cap, first_cap, 100.0);
+  requireInRange(kOptions, "cap_tolerance", cap_tolerance, 1e-6, 1.0);
+  requireInRange(kOptions, "rms_error_cap_factor", rms_error_cap_factor, 1.0, 100.0);
+  requireInRange(kOptions, "plan_error_cap_factor", plan_error_cap_factor, 1.0, 100.0);
+  requireInRange(kOptions, "finish_tolerance", finish_tolerance, 0.0, 1.0);
+  requireInRange(kOptions, "rms_time_factor", rms_time_factor, 1.0, 10.0);
+  requireInRange(kOptions, "max_duration", max_duration, 1e-3, 1e6);
 }
 
 TrackingBound computeTrackingBound(const Path& path, int laps, const BinaryCalibration& c,
