@@ -8,6 +8,7 @@
 
 #include "flagella_identify/calibration.h"
 #include "flagella_identify/check_overrides.h"
+#include "flagella_sim/core/units.h"
 #include "text_format.h"
 
 namespace flagella {
@@ -21,6 +22,8 @@ std::string verdictText(Verdict v) {
       return "named cause";
     case Verdict::kUnexplained:
       return "unexplained residual";
+    case Verdict::kCannotTell:
+      return "cannot tell from these data";
   }
   return "?";
 }
@@ -182,14 +185,32 @@ void decideVerdict(IdentifyResult& result, const std::optional<ModelOutcome>& ch
 
 }  // namespace
 
+namespace {
+
+Split initialSplit(const MeasuredData& data) {
+  return wantsCrossValidation(data) ? trainingOnlySplit(data) : makeSplit(data);
+}
+
+int rowCount(const MeasuredData& data) {
+  int rows = 0;
+  for (const SteadyStateTable& t : data.tables) rows += static_cast<int>(t.rows.size());
+  return rows;
+}
+
+}  // namespace
+
 Identification::Identification(MeasuredData data, YAML::Node baseline, std::string baseline_source,
                                IdentifyOptions options)
     : data_(std::move(data)),
       baseline_(YAML::Clone(baseline)),
       source_(std::move(baseline_source)),
       options_(std::move(options)),
-      evaluator_(data_, makeSplit(data_), options_.evaluator) {
+      evaluator_(data_, initialSplit(data_), options_.evaluator) {
   checkDataOverrides(data_, baseline_, source_, fittedNames(options_.free, options_.candidates));
+}
+
+Split Identification::heldOutRows() const {
+  return folds_ ? heldOutInSomeFold(data_, *folds_) : evaluator_.split();
 }
 
 void Identification::say(const std::string& line) const {
@@ -205,6 +226,13 @@ Model Identification::modelOf(const ModelOutcome& outcome) const {
 
 ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>& effects,
                                              const ModelOutcome& reference) {
+  ModelOutcome out = fitOnTraining(effects, reference);
+  if (out.fitted) judge(out, reference);
+  return out;
+}
+
+ModelOutcome Identification::fitOnTraining(const std::vector<const Candidate*>& effects,
+                                           const ModelOutcome& reference) {
   ModelOutcome out;
   Model model(baseline_, source_, options_.free);
   for (const Candidate* c : effects) {
@@ -227,19 +255,91 @@ ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>
   out.extra_parameters = static_cast<int>(model.parameters().size()) - model.baselineCount();
   out.train_chi_square = fit.chi_square;
   out.train_count = fit.residual_count;
-  out.held_out = evaluator_.evaluate(model, model.values(), Part::kHeldOut);
-  out.evaluations += 1;
+  say(formatted("    %.0f model evaluations, %.0f iterations; training chi^2 %.4g", out.evaluations,
+                fit.iterations, out.train_chi_square));
+  return out;
+}
+
+Evaluation Identification::crossValidatedResiduals(const ModelOutcome& out,
+                                                   int& evaluations) const {
+  Evaluation all;
+  FitOptions options = fitOptionsFor(data_, options_.fit);
+  options.progress = nullptr;
+  options.max_iterations = std::min(options.max_iterations, kFoldIterations);
+  for (size_t f = 0; f < folds_->folds.size(); ++f) {
+    // docs/model.md 7.6: each fold refits from the all-rows optimum and predicts its rows
+    const Evaluator fold(data_, folds_->folds[f], options_.evaluator);
+    Model model = modelOf(out);
+    const FitResult fit = fitModel(model, fold, options);
+    evaluations += fit.evaluations;
+    Evaluation held = fit.ok ? fold.evaluate(model, model.values(), Part::kHeldOut) : Evaluation{};
+    evaluations += fit.ok ? 1 : 0;
+    if (!fit.ok || !held.ok) {
+      all.ok = false;
+      all.failure = formatted("fold %.0f: ", f + 1.0) + (fit.ok ? held.failure : fit.message);
+      return all;
+    }
+    all.points.insert(all.points.end(), held.points.begin(), held.points.end());
+  }
+  return all;
+}
+
+void Identification::judge(ModelOutcome& out, const ModelOutcome& reference) {
+  if (folds_) {
+    out.held_out = crossValidatedResiduals(out, out.evaluations);
+  } else {
+    out.held_out = evaluator_.evaluate(modelOf(out), valuesOf(out.parameters), Part::kHeldOut);
+    out.evaluations += 1;
+  }
   if (!out.held_out.ok) {
     out.fitted = false;
     out.note = "the fitted model fails on the held-out experiments: " + out.held_out.failure;
-    return out;
+    return;
   }
   scoreHeldOut(out, reference, baseline_excess_);
-  say(formatted(
-          "    %.0f model evaluations, %.0f iterations; training chi^2 %.4g; held-out chi^2 %.4g",
-          out.evaluations, fit.iterations, out.train_chi_square, out.held_out_chi_square) +
-      formatted(" over %.0f residuals (RMS z %.3g)", out.held_out_count, out.held_out_rms_z));
-  return out;
+  say(formatted("    held-out chi^2 %.4g over %.0f residuals (RMS z %.3g)", out.held_out_chi_square,
+                out.held_out_count, out.held_out_rms_z) +
+      (folds_ ? formatted(", cross-validated over %.0f folds", folds_->folds.size()) : ""));
+}
+
+void Identification::planCrossValidation(const ModelOutcome& baseline, IdentifyResult& result) {
+  const Model model = modelOf(baseline);
+  std::vector<std::string> names;
+  for (const FitParameter& p : model.parameters()) names.push_back(p.name);
+  const FitOptions fit = fitOptionsFor(data_, options_.fit);
+  RowInformation info =
+      rowInformation(model, model.values(), evaluator_, fit.log_step, fit.linear_step);
+  result.total_evaluations += static_cast<int>(names.size()) + 1;
+  // The candidates' variables are parameters too (docs/model.md 7.6): each at its weakest
+  // realistic strength (else its first start), beside the calibrated baseline.
+  const unsigned observables = observablesOf(data_);
+  for (const Candidate* c : candidatesNamed(options_.candidates)) {
+    if (!notIdentifiableReason(*c, observables).empty()) continue;
+    std::vector<double> strength = weakestTypicalStrength(*c);
+    if (strength.empty() && !c->starts.empty()) strength = c->starts.front();
+    if (strength.empty()) continue;
+    Model with(model);
+    with.addCandidate(*c);
+    std::vector<double> values = model.values();
+    values.insert(values.end(), strength.begin(), strength.end());
+    const RowInformation more = rowInformation(with, values, evaluator_, fit.log_step,
+                                               fit.linear_step, model.parameters().size());
+    result.total_evaluations += static_cast<int>(strength.size()) + 1;
+    for (const FitParameter& v : c->variables) names.push_back(v.name);
+    for (size_t t = 0; t < info.size(); ++t)
+      for (size_t r = 0; r < info[t].size(); ++r)
+        info[t][r].insert(info[t][r].end(), more[t][r].begin(), more[t][r].end());
+  }
+  folds_ = planFolds(data_, info, names);
+  result.validation_notes = folds_->notes;
+  result.validation = formatted(
+      "%.0f-fold cross validation (%.0f rows: fewer than %.0f, so one split would judge on "
+      "too few)",
+      folds_->folds.size(), rowCount(data_), kCrossValidationRows);
+  if (folds_->always_training_rows > 0)
+    result.validation += formatted("; %.0f row(s) always train", folds_->always_training_rows);
+  say("validation: " + result.validation);
+  for (const std::string& note : folds_->notes) say("  " + note);
 }
 
 void Identification::fitCandidates(IdentifyResult& result) {
@@ -290,14 +390,111 @@ void Identification::tryPairs(IdentifyResult& result, std::optional<ModelOutcome
   }
 }
 
+namespace {
+
+/// One suggested measurement in words, in display units.
+std::string suggestionText(const SuggestedMeasurement& s) {
+  const auto [unit, factor] = displayUnit(s.output);
+  std::string where;
+  for (const ConfigOverride& o : s.overrides)
+    where += (where.empty() ? "" : ", ") + o.first + " " + o.second;
+  return "measure " + s.output + formatted(" at %.4g rpm", s.omega_T * units::kRpmPerRadPerSec) +
+         (where.empty() ? "" : " (" + where + ")") +
+         formatted(": the baseline predicts %.4g ", s.baseline * factor) + unit + ", with " +
+         s.candidate + formatted(" %.4g ", s.with_effect * factor) + unit +
+         formatted(", noise %.3g ", s.sigma * factor) + unit +
+         formatted(" (%.1f sigma apart)", s.separation);
+}
+
+}  // namespace
+
+bool Identification::cannotTell(IdentifyResult& result) {
+  if (data_.tables.empty()) return false;
+  const unsigned observables = observablesOf(data_);
+  // The power of the training rows (every row with cross validation), against the baseline
+  // calibrated on them: a conservative figure for a split, at no extra baseline fit.
+  const FitOptions fit = fitOptionsFor(data_, options_.fit);
+  const Model base = modelOf(result.baseline);
+  const double base_chi = result.baseline.train_chi_square;
+  const int count = result.baseline.train_count;
+  say("power of the data against each steady-state candidate at its weakest realistic strength");
+  std::vector<std::string> blind;
+  for (const Candidate* c : candidatesNamed(options_.candidates)) {
+    if (!c->steady_table_data || !notIdentifiableReason(*c, observables).empty()) continue;
+    const PowerCheck check = checkPower(base, base.values(), base_chi, count, *c, evaluator_, fit);
+    result.total_evaluations += check.evaluations;
+    result.power.push_back(check);
+    if (!check.checked) {
+      say("  " + c->name + ": not checked (" + check.note + ")");
+      continue;
+    }
+    say("  " + c->name +
+        formatted(": chi^2 +%.3g with the effect (rules it out above %.3g): ",
+                  check.chi_square_increase, check.threshold) +
+        (check.excluded ? "excluded" : "not excluded"));
+    if (check.excluded) continue;
+    const std::vector<SuggestedMeasurement> s =
+        suggestMeasurements(base, base.values(), check, data_, options_.evaluator);
+    result.total_evaluations += 2;
+    if (s.empty()) {
+      say("    no steady measurement of the grid would show it either");
+      continue;
+    }
+    blind.push_back(c->name);
+    result.suggestions.insert(result.suggestions.end(), s.begin(), s.end());
+  }
+  if (blind.empty()) return false;
+  const Diagnosis& d = result.baseline_diagnosis;
+  result.verdict = Verdict::kCannotTell;
+  result.summary =
+      formatted(
+          "Cannot tell from these data: the calibrated baseline predicts them within the noise "
+          "(RMS z %.2f over %.0f residuals, noise test z = %.2f), but these data could not have "
+          "shown ",
+          d.rms_z, d.count, d.noise_z) +
+      joined(blind, " or ") +
+      " at its weakest realistic strength either (the baseline with the effect fits them as "
+      "well, baseline parameters refitted). No effect is named, and none is ruled out. To "
+      "decide: ";
+  std::vector<std::string> steps;
+  for (const SuggestedMeasurement& s : result.suggestions) steps.push_back(suggestionText(s));
+  result.summary += joined(steps, "; ") + ".";
+  return true;
+}
+
 IdentifyResult Identification::run() {
   IdentifyResult result;
-  say("calibrating the baseline (" + source_ + ") on the training split");
+  const bool cross_validate = wantsCrossValidation(data_);
+  say("calibrating the baseline (" + source_ + ") on " +
+      (cross_validate ? "every row (small table: cross validation follows)"
+                      : "the training split"));
   ModelOutcome none;
-  result.baseline = fitModelOutcome({}, none);
-  result.total_evaluations += result.baseline.evaluations;
+  result.baseline = fitOnTraining({}, none);
   if (!result.baseline.fitted)
     throw std::runtime_error("the baseline model could not be calibrated: " + result.baseline.note);
+  if (cross_validate) {
+    planCrossValidation(result.baseline, result);
+    if (folds_->folds.empty()) {
+      result.total_evaluations += result.baseline.evaluations;
+      result.verdict = Verdict::kCannotTell;
+      result.summary =
+          "Cannot tell from these data: every row alone constrains a baseline parameter, so no "
+          "row can be held out to test the model. Measure more rows (other motor rates).";
+      return result;
+    }
+  } else {
+    const Split split = evaluator_.split();
+    int held = 0;
+    for (const auto& table : split.table_row_held_out)
+      held += static_cast<int>(std::count(table.begin(), table.end(), true));
+    result.validation =
+        formatted("held-out split (%.0f of %.0f table rows", held, rowCount(data_)) +
+        (data_.series.empty() ? ")" : "; the last 40 % of each series)");
+  }
+  judge(result.baseline, none);
+  result.total_evaluations += result.baseline.evaluations;
+  if (!result.baseline.fitted)
+    throw std::runtime_error("the calibrated baseline cannot be judged: " + result.baseline.note);
 
   result.baseline_diagnosis = diagnose(result.baseline.held_out, data_);
   const Diagnosis& d = result.baseline_diagnosis;
@@ -306,8 +503,15 @@ IdentifyResult Identification::run() {
                 d.rms_z, d.noise_z, kSignificanceZ));
   for (const Signature& s : d.signatures) say("  signature: " + s.kind + " - " + s.text);
   if (!d.significant) {
+    if (cannotTell(result)) return result;
     result.verdict = Verdict::kNoDiscrepancy;
     result.summary = noDiscrepancySummary(d);
+    std::vector<std::string> excluded;
+    for (const PowerCheck& p : result.power)
+      if (p.excluded) excluded.push_back(p.candidate);
+    if (!excluded.empty())
+      result.summary += " These data would have shown " + joined(excluded, ", ") +
+                        " at the weakest realistic strength (power check).";
     return result;
   }
 

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "flagella_sim/core/units.h"
 #include "report_json.h"
 #include "text_format.h"
 
@@ -169,6 +170,29 @@ json reportJson(const IdentifyResult& r, const ReportInputs& inputs, const std::
       {"definition",
        "1 - (held-out RMS of (model-data)/sigma with the effect) / (same "
        "for the calibrated baseline)"}};
+  j["validation"] = {{"method", r.validation}, {"notes", r.validation_notes}};
+  j["power"] = json::array();
+  for (const PowerCheck& p : r.power)
+    j["power"].push_back({{"candidate", p.candidate},
+                          {"strength", p.strength},
+                          {"checked", p.checked},
+                          {"note", p.note},
+                          {"chi_square_increase", p.chi_square_increase},
+                          {"threshold", p.threshold},
+                          {"excluded", p.excluded}});
+  j["suggested_measurements"] = json::array();
+  for (const SuggestedMeasurement& s : r.suggestions) {
+    json overrides = json::object();
+    for (const ConfigOverride& o : s.overrides) overrides[o.first] = o.second;
+    j["suggested_measurements"].push_back({{"candidate", s.candidate},
+                                           {"omega_T_rpm", s.omega_T * units::kRpmPerRadPerSec},
+                                           {"output", s.output},
+                                           {"overrides", overrides},
+                                           {"baseline_si", s.baseline},
+                                           {"with_effect_si", s.with_effect},
+                                           {"sigma_si", s.sigma},
+                                           {"separation_sigma", s.separation}});
+  }
   j["extended_config"] = yaml_path;
   j["model_evaluations"] = r.total_evaluations;
   return j;
@@ -189,6 +213,8 @@ void markdownHead(std::ostringstream& md, const IdentifyResult& r, const ReportI
   for (size_t i = 0; i < inputs.data_files.size(); ++i)
     md << (i ? ", " : "") << "`" << inputs.data_files[i] << "`";
   md << "\n- Baseline config: `" << inputs.baseline_config << "`\n";
+  md << "- Validation: " << r.validation << "\n";
+  for (const std::string& note : r.validation_notes) md << "  - " << note << "\n";
   md << "- Model evaluations (each simulates the training experiments): " << r.total_evaluations
      << "\n- Plots: `report.png` (data, calibrated baseline, extended model)\n\n";
   md << "## Gain on held-out data\n\n| model | held-out RMS z | noise test z |\n|---|---|---|\n";
@@ -219,6 +245,35 @@ void candidateSection(std::ostringstream& md, const IdentifyResult& r) {
     }
 }
 
+/// Section 3b of the Markdown report: the power of the data and the measurements that decide.
+void powerSection(std::ostringstream& md, const IdentifyResult& r) {
+  if (r.power.empty()) return;
+  md << "\n## 3b. Could these data have shown an effect?\n\nEach steady-state candidate at its "
+        "weakest realistic strength, baseline parameters refitted on every row:\n\n| candidate | "
+        "chi^2 increase | rules it out above | excluded |\n|---|---|---|---|\n";
+  for (const PowerCheck& p : r.power) {
+    if (!p.checked) {
+      md << "| " << p.candidate << " | not checked: " << p.note << " | | |\n";
+      continue;
+    }
+    md << "| " << p.candidate << " | " << num(p.chi_square_increase, 3) << " | "
+       << num(p.threshold, 3) << " | " << (p.excluded ? "yes" : "no") << " |\n";
+  }
+  if (r.suggestions.empty()) return;
+  md << "\nMeasurements that would decide (model predictions, SI units):\n\n| candidate | "
+        "omega_T [rpm] | config | output | baseline | with the effect | noise | sigmas apart "
+        "|\n|---|---|---|---|---|---|---|---|\n";
+  for (const SuggestedMeasurement& s : r.suggestions) {
+    std::string where;
+    for (const ConfigOverride& o : s.overrides)
+      where += (where.empty() ? "" : ", ") + o.first + " " + o.second;
+    md << "| " << s.candidate << " | " << num(s.omega_T * units::kRpmPerRadPerSec, 4) << " | "
+       << where << " | " << s.output << " | " << num(s.baseline, 4) << " | "
+       << num(s.with_effect, 4) << " | " << num(s.sigma, 3) << " | " << num(s.separation, 3)
+       << " |\n";
+  }
+}
+
 /// report.md: for a reader.
 std::string reportMarkdown(const IdentifyResult& r, const ReportInputs& inputs,
                            const std::string& yaml_path, bool named) {
@@ -233,6 +288,7 @@ std::string reportMarkdown(const IdentifyResult& r, const ReportInputs& inputs,
      << " (significant above " << kSignificanceZ << ").\n\n"
      << diagnosisTables(r.baseline_diagnosis) << "\n";
   candidateSection(md, r);
+  powerSection(md, r);
   if (r.chosen) {
     md << "\n## 4. "
        << (named ? "Named cause and fitted parameters" : "Best partial model (no cause named)")
@@ -268,7 +324,7 @@ std::vector<std::string> writeReport(const Identification& identification, const
       identification.evaluator().evaluate(baseline, baseline.values(), Part::kAll);
   const Evaluation ext_all =
       identification.evaluator().evaluate(extended, extended.values(), Part::kAll);
-  writePlotData(csv_path, identification.evaluator().split(), base_all, ext_all);
+  writePlotData(csv_path, identification.heldOutRows(), base_all, ext_all);
 
   std::ofstream(json_path) << reportJson(r, inputs, yaml_path, named).dump(2) << "\n";
   std::ofstream(md_path) << reportMarkdown(r, inputs, yaml_path, named);

@@ -11,8 +11,10 @@
 #include <string>
 #include <vector>
 
+#include "flagella_identify/cross_validation.h"
 #include "flagella_identify/diagnosis.h"
 #include "flagella_identify/fit.h"
+#include "flagella_identify/power_check.h"
 
 namespace flagella {
 namespace identify {
@@ -50,7 +52,9 @@ struct ModelOutcome {
   Evaluation held_out;  ///< the fitted model's held-out residuals
 };
 
-enum class Verdict { kNoDiscrepancy, kNamedCause, kUnexplained };
+/// kCannotTell: the baseline fits, but these data could not have shown a candidate effect of
+/// realistic strength (power_check.h); the report says which measurement would.
+enum class Verdict { kNoDiscrepancy, kNamedCause, kUnexplained, kCannotTell };
 std::string verdictText(Verdict v);
 
 struct IdentifyResult {
@@ -65,6 +69,15 @@ struct IdentifyResult {
   Diagnosis chosen_diagnosis;
   double gain = 0.0;  ///< 1 - held-out RMS z after / before (0 when nothing is named)
   int total_evaluations = 0;
+  /// How the models were judged: "held-out split (...)" or "k-fold cross validation (...)";
+  /// with cross validation every held-out figure above is cross-validated.
+  std::string validation;
+  std::vector<std::string> validation_notes;  ///< rows that always train, and why
+  /// Whether these data could have shown each steady-state candidate at its weakest realistic
+  /// strength (run when the baseline shows no discrepancy in tables), and the measurements
+  /// that would separate the ones they could not.
+  std::vector<PowerCheck> power;
+  std::vector<SuggestedMeasurement> suggestions;
 };
 
 class Identification {
@@ -74,12 +87,27 @@ class Identification {
   IdentifyResult run();
 
   const Evaluator& evaluator() const { return evaluator_; }
+  /// The rows the verdict was judged on: the split's held-out rows, or with cross validation
+  /// the rows held out in some fold.
+  Split heldOutRows() const;
   /// The model of an outcome (baseline or extended) with its fitted values.
   Model modelOf(const ModelOutcome& outcome) const;
 
  private:
   ModelOutcome fitModelOutcome(const std::vector<const Candidate*>& effects,
                                const ModelOutcome& reference);
+  /// The fit on the training data (every row with cross validation), not yet judged.
+  ModelOutcome fitOnTraining(const std::vector<const Candidate*>& effects,
+                             const ModelOutcome& reference);
+  /// The held-out residuals of a fitted outcome (each fold's refit with cross validation) and
+  /// the scores against `reference`; unfitted when they cannot be simulated.
+  void judge(ModelOutcome& out, const ModelOutcome& reference);
+  Evaluation crossValidatedResiduals(const ModelOutcome& out, int& evaluations) const;
+  /// The folds, from each row's information about the calibrated baseline's parameters.
+  void planCrossValidation(const ModelOutcome& baseline, IdentifyResult& result);
+  /// The power of the data against each steady-state candidate; the verdict "cannot tell"
+  /// when one of realistic strength would not have shown but a measurement would show it.
+  bool cannotTell(IdentifyResult& result);
   /// Fits every identifiable candidate (of the options' list) alone with the baseline;
   /// records skipped ones with the reason.
   void fitCandidates(IdentifyResult& result);
@@ -94,7 +122,8 @@ class Identification {
   std::string source_;
   IdentifyOptions options_;
   Evaluator evaluator_;
-  double baseline_excess_ = 0.0;  ///< held-out chi^2 - N of the calibrated baseline
+  std::optional<CrossValidationPlan> folds_;  ///< set when the data are cross-validated
+  double baseline_excess_ = 0.0;              ///< held-out chi^2 - N of the calibrated baseline
 };
 
 /// A model explains the discrepancy when it removes at least this share of the baseline's

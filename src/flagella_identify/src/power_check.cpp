@@ -1,0 +1,168 @@
+#include "flagella_identify/power_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "flagella_identify/calibration.h"
+#include "flagella_identify/identify.h"
+#include "flagella_identify/model.h"
+
+namespace flagella {
+namespace identify {
+
+namespace {
+
+/// The data's row configurations: each table's common overrides plus each distinct set of row
+/// overrides, in order of appearance.
+std::vector<std::vector<ConfigOverride>> rowConfigurations(const SteadyStateTable& table) {
+  std::vector<std::vector<ConfigOverride>> out;
+  for (const SteadyStateRow& row : table.rows)
+    if (std::find(out.begin(), out.end(), row.overrides) == out.end()) out.push_back(row.overrides);
+  return out;
+}
+
+/// The grid of signed rates [rad/s]: a quarter of the lowest |omega_T| to twice the highest,
+/// geometric, with the sign of the fastest row.
+std::vector<double> suggestionRates(const MeasuredData& data) {
+  double low = std::numeric_limits<double>::infinity(), high = 0.0, sign = 1.0;
+  for (const SteadyStateTable& t : data.tables)
+    for (const SteadyStateRow& row : t.rows) {
+      const double w = std::abs(row.omega_T);
+      if (!(w > 0.0)) continue;
+      low = std::min(low, w);
+      if (w > high) {
+        high = w;
+        sign = row.omega_T < 0.0 ? -1.0 : 1.0;
+      }
+    }
+  std::vector<double> rates;
+  if (!(high > 0.0)) return rates;
+  const double first = 0.25 * low, last = 2.0 * high;
+  for (int k = 0; k < kSuggestionRates; ++k)
+    rates.push_back(sign * first * std::pow(last / first, k / (kSuggestionRates - 1.0)));
+  return rates;
+}
+
+/// One table per data table: the grid rates x its row configurations, each measuring the
+/// table's steady outputs that have a noise (value 0: only the model side is used).
+MeasuredData suggestionGrid(const MeasuredData& data) {
+  MeasuredData grid;
+  const std::vector<double> rates = suggestionRates(data);
+  for (const SteadyStateTable& t : data.tables) {
+    SteadyStateTable g = t;
+    g.rows.clear();
+    double latest = kMissing;  // drift effects: the grid's rows are taken last in the session
+    for (const SteadyStateRow& row : t.rows)
+      if (std::isfinite(row.time) && !(row.time <= latest)) latest = row.time;
+    for (const std::vector<ConfigOverride>& overrides : rowConfigurations(t))
+      for (double omega : rates) {
+        SteadyStateRow row;
+        row.omega_T = omega;
+        row.time = latest;
+        row.overrides = overrides;
+        for (const auto& [output, sigma] : t.noise)
+          if (output != "buckling_threshold" && sigma > 0.0) row.measured[output] = 0.0;
+        if (!row.measured.empty()) g.rows.push_back(row);
+      }
+    if (!g.rows.empty()) grid.tables.push_back(g);
+  }
+  return grid;
+}
+
+}  // namespace
+
+std::vector<double> weakestTypicalStrength(const Candidate& c) {
+  std::vector<double> strength;
+  bool any = false;
+  for (size_t i = 0; i < c.variables.size(); ++i) {
+    double value = c.off.size() > i ? c.off[i] : c.variables[i].value;
+    for (const TypicalStrength& t : c.typical)
+      if (t.variable == c.variables[i].name) {
+        value = t.low;
+        any = true;
+      }
+    strength.push_back(value);
+  }
+  return any ? strength : std::vector<double>{};
+}
+
+PowerCheck checkPower(const Model& baseline, const std::vector<double>& baseline_values,
+                      double baseline_chi_square, int count, const Candidate& candidate,
+                      const Evaluator& all_rows, const FitOptions& fit) {
+  PowerCheck out;
+  out.candidate = candidate.name;
+  out.strength = weakestTypicalStrength(candidate);
+  if (out.strength.empty()) {
+    out.note = "no realistic strength is known for it";
+    return out;
+  }
+  Model model = baseline;
+  model.addCandidate(candidate);
+  std::vector<double> values = baseline_values;
+  values.insert(values.end(), out.strength.begin(), out.strength.end());
+  model.setValues(values);
+  std::vector<bool> free(values.size(), false);
+  std::fill(free.begin(), free.begin() + model.baselineCount(), true);
+  FitOptions options = fit;
+  options.progress = nullptr;
+  const FitResult r = fitModel(model, all_rows, options, free);
+  out.evaluations = r.evaluations;
+  if (!r.ok) {
+    out.note = "the model with the effect could not be fitted: " + r.message;
+    return out;
+  }
+  out.checked = true;
+  out.values = r.values;
+  out.chi_square_increase = r.chi_square - baseline_chi_square;
+  // docs/model.md 7.6: the selection's bar, critical value + parsimony penalty
+  const int k = static_cast<int>(out.strength.size());
+  out.threshold = chiSquareCritical(k) + k * std::log(static_cast<double>(std::max(2, count)));
+  out.excluded = out.chi_square_increase > out.threshold;
+  return out;
+}
+
+std::vector<SuggestedMeasurement> suggestMeasurements(const Model& baseline,
+                                                      const std::vector<double>& baseline_values,
+                                                      const PowerCheck& check,
+                                                      const MeasuredData& data,
+                                                      const EvaluatorOptions& options) {
+  std::vector<SuggestedMeasurement> out;
+  if (!check.checked) return out;
+  const MeasuredData grid = suggestionGrid(data);
+  if (grid.tables.empty()) return out;
+  Model with_effect = baseline;
+  with_effect.addCandidate(candidateByName(check.candidate));
+  const Evaluator evaluator(grid, trainingOnlySplit(grid), options);
+  const Evaluation base = evaluator.evaluate(baseline, baseline_values, Part::kAll);
+  const Evaluation effect = evaluator.evaluate(with_effect, check.values, Part::kAll);
+  if (!base.ok || !effect.ok || base.points.size() != effect.points.size()) return out;
+  std::vector<SuggestedMeasurement> all;
+  for (size_t i = 0; i < base.points.size(); ++i) {
+    const ResidualPoint& b = base.points[i];
+    SuggestedMeasurement s;
+    s.candidate = check.candidate;
+    s.omega_T = b.omega_T;
+    s.output = b.output;
+    const SteadyStateTable& table = grid.tables[b.source];
+    s.overrides = table.overrides;
+    const std::vector<ConfigOverride>& row = table.rows[b.row].overrides;
+    s.overrides.insert(s.overrides.end(), row.begin(), row.end());
+    s.baseline = b.model;
+    s.with_effect = effect.points[i].model;
+    s.sigma = b.sigma;
+    s.separation = std::abs(s.with_effect - s.baseline) / s.sigma;
+    if (s.separation >= kDecisiveSeparation) all.push_back(s);
+  }
+  std::stable_sort(all.begin(), all.end(),
+                   [](const auto& a, const auto& b) { return a.separation > b.separation; });
+  std::set<double> rates;
+  for (const SuggestedMeasurement& s : all)
+    if (static_cast<int>(rates.size()) < kSuggestionsPerCandidate && rates.insert(s.omega_T).second)
+      out.push_back(s);
+  return out;
+}
+
+}  // namespace identify
+}  // namespace flagella
