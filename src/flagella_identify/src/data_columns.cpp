@@ -36,6 +36,12 @@ const MeasuredColumn* measuredByOutput(const std::string& output) {
   return nullptr;
 }
 
+const MeasuredColumn* sigmaColumnOf(const std::string& column) {
+  const std::string prefix = "sigma_";
+  if (column.compare(0, prefix.size(), prefix) != 0) return nullptr;
+  return measuredByColumn(column.substr(prefix.size()));
+}
+
 std::vector<std::string> measuredColumnNames() {
   std::vector<std::string> names;
   for (const MeasuredColumn& m : measuredColumns()) names.push_back(m.column);

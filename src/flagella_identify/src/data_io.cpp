@@ -11,6 +11,13 @@
 namespace flagella {
 namespace identify {
 
+double SteadyStateRow::sigmaOf(const std::string& output,
+                               const std::map<std::string, double>& table_noise) const {
+  if (const auto it = sigma.find(output); it != sigma.end()) return it->second;
+  if (const auto it = table_noise.find(output); it != table_noise.end()) return it->second;
+  return kMissing;
+}
+
 void append(MeasuredData& data, MeasuredData more) {
   for (SteadyStateTable& t : more.tables) data.tables.push_back(std::move(t));
   for (TimeSeries& s : more.series) data.series.push_back(std::move(s));

@@ -53,6 +53,9 @@ const std::vector<MeasuredColumn>& measuredColumns();
 const MeasuredColumn* measuredByColumn(const std::string& column);
 const MeasuredColumn* measuredByOutput(const std::string& output);
 std::vector<std::string> measuredColumnNames();
+/// The measured column whose per-row uncertainty `column` is ("sigma_v_mm_s" -> v_mm_s), or
+/// nullptr.
+const MeasuredColumn* sigmaColumnOf(const std::string& column);
 
 /// Empty if `name` is a valid override name "section.field[.more]", else what is wrong.
 std::string overrideNameProblem(const std::string& name);

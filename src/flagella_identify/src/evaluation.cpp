@@ -322,7 +322,7 @@ void Evaluator::runTableJob(const Model& model, const std::vector<double>& value
     p.session_time = row.time;
     p.data = measured;
     p.model = predicted;
-    p.sigma = table.noise.at(name);
+    p.sigma = row.sigmaOf(name, table.noise);
     out.points.push_back(p);
   }
 }

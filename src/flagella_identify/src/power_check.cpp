@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 
 #include "flagella_identify/calibration.h"
@@ -20,6 +21,28 @@ std::vector<std::vector<ConfigOverride>> rowConfigurations(const SteadyStateTabl
   std::vector<std::vector<ConfigOverride>> out;
   for (const SteadyStateRow& row : table.rows)
     if (std::find(out.begin(), out.end(), row.overrides) == out.end()) out.push_back(row.overrides);
+  return out;
+}
+
+/// The uncertainty of each steady output a table measures: the table's noise, else the median of
+/// its rows' own.
+std::map<std::string, double> typicalNoise(const SteadyStateTable& table) {
+  std::map<std::string, std::vector<double>> seen;
+  for (const SteadyStateRow& row : table.rows)
+    for (const auto& [output, value] : row.measured) {
+      const double sigma = row.sigmaOf(output, table.noise);
+      if (output != "buckling_threshold" && std::isfinite(value) && sigma > 0.0)
+        seen[output].push_back(sigma);
+    }
+  std::map<std::string, double> out;
+  for (auto& [output, sigmas] : seen) {
+    if (const auto it = table.noise.find(output); it != table.noise.end()) {
+      out[output] = it->second;
+      continue;
+    }
+    std::nth_element(sigmas.begin(), sigmas.begin() + sigmas.size() / 2, sigmas.end());
+    out[output] = sigmas[sigmas.size() / 2];
+  }
   return out;
 }
 
@@ -62,8 +85,10 @@ MeasuredData suggestionGrid(const MeasuredData& data) {
         row.omega_T = omega;
         row.time = latest;
         row.overrides = overrides;
-        for (const auto& [output, sigma] : t.noise)
-          if (output != "buckling_threshold" && sigma > 0.0) row.measured[output] = 0.0;
+        for (const auto& [output, sigma] : typicalNoise(t)) {
+          row.measured[output] = 0.0;
+          row.sigma[output] = sigma;
+        }
         if (!row.measured.empty()) g.rows.push_back(row);
       }
     if (!g.rows.empty()) grid.tables.push_back(g);

@@ -1,4 +1,7 @@
 // Reading a steady-state table: its metadata keys and the CSV of one row per experiment.
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <utility>
 
 #include "data_io_internal.h"
@@ -18,6 +21,7 @@ struct TableColumns {
   int time = -1;
   int omega = -1;
   std::vector<std::pair<int, const MeasuredColumn*>> measured;
+  std::vector<std::pair<int, const MeasuredColumn*>> sigma;  ///< sigma_<measured column>
   std::vector<int> overrides;
 };
 
@@ -55,6 +59,8 @@ TableColumns classifyColumns(const csv::Table& csv) {
       columns.omega = col;
     } else if (const MeasuredColumn* m = measuredByColumn(name)) {
       columns.measured.emplace_back(col, m);
+    } else if (const MeasuredColumn* u = sigmaColumnOf(name)) {
+      columns.sigma.emplace_back(col, u);
     } else if (name.find('.') != std::string::npos) {
       const std::string problem = overrideNameProblem(name);
       if (!problem.empty())
@@ -66,6 +72,7 @@ TableColumns classifyColumns(const csv::Table& csv) {
                       "unknown column '" + abbreviated(name) +
                           "' (allowed: id, time_s, omega_T_rpm, " +
                           joined(measuredColumnNames(), ", ") +
+                          ", sigma_<measured column> (that column's uncertainty in each row)" +
                           ", or a config override 'section.field' with section one of " +
                           joined(overrideSections(), ", ") + ")");
     }
@@ -89,9 +96,30 @@ void checkColumns(const Metadata& meta, const csv::Table& csv, const TableColumn
     throw DataError(
         csv.path, csv.header_line, 1,
         "no measured column; expected at least one of " + joined(measuredColumnNames(), ", "));
+  for (const auto& [col, u] : columns.sigma)
+    if (std::none_of(columns.measured.begin(), columns.measured.end(),
+                     [u = u](const auto& m) { return m.second == u; }))
+      throw DataError(csv.path, csv.header_line, col + 1,
+                      "column '" + csv.header[col] + "' gives the uncertainty of '" + u->column +
+                          "', which the table does not have");
+  // A measured column needs the metadata's noise unless every row may give its own (checked
+  // per row in readSteadyState).
   for (const auto& [col, m] : columns.measured)
-    meta.requireNoise(noise, m->column,
-                      "'" + csv.path + "' has the measured column '" + m->column + "'");
+    if (std::none_of(columns.sigma.begin(), columns.sigma.end(),
+                     [m = m](const auto& u) { return u.second == m; }))
+      meta.requireNoise(noise, m->column,
+                        "'" + csv.path + "' has the measured column '" + m->column + "'");
+}
+
+/// Throws unless each measured value of the row has an uncertainty (its own or the table's).
+void checkRowUncertainty(const csv::Table& csv, const csv::Row& r, const TableColumns& columns,
+                         const SteadyStateRow& row, const std::map<std::string, double>& noise) {
+  for (const auto& [col, m] : columns.measured)
+    if (std::isfinite(row.measured.at(m->output)) && !std::isfinite(row.sigmaOf(m->output, noise)))
+      throw DataError(csv.path, r.line, col + 1,
+                      std::string("'") + m->column +
+                          "' has no uncertainty in this row: its sigma_" + m->column +
+                          " cell is empty and the metadata has no 'noise." + m->column + "'");
 }
 
 /// One experiment from a CSV row, in SI units (the field count already checked).
@@ -111,6 +139,12 @@ SteadyStateRow readRow(const csv::Table& csv, const csv::Row& r, const TableColu
   for (const auto& [col, m] : columns.measured) {
     const std::optional<double> value = rangedNumber(csv, r, col, true, m->min, m->max, m->unit);
     row.measured[m->output] = value ? *value * m->to_si : kMissing;
+  }
+  // docs/model.md 7.6: a row's own uncertainty, in the unit of its column, > 0
+  for (const auto& [col, m] : columns.sigma) {
+    const std::optional<double> sigma =
+        rangedNumber(csv, r, col, true, std::numeric_limits<double>::min(), m->max, m->unit);
+    if (sigma) row.sigma[m->output] = *sigma * m->to_si;
   }
   return row;
 }
@@ -137,6 +171,7 @@ SteadyStateTable readSteadyState(const Metadata& meta) {
   for (const csv::Row& r : csv.rows) {
     checkFieldCount(csv, r);
     table.rows.push_back(readRow(csv, r, columns));
+    checkRowUncertainty(csv, r, columns, table.rows.back(), table.noise);
   }
   return table;
 }

@@ -90,8 +90,9 @@ std::string metadataText(YAML::Emitter& y) { return std::string(y.c_str()) + "\n
 struct TableLayout {
   bool any_id = false;
   bool any_time = false;
-  std::vector<const MeasuredColumn*> columns;  ///< measured outputs, in the documented order
-  std::vector<std::string> override_names;     ///< union of the row overrides, first seen first
+  std::vector<const MeasuredColumn*> columns;        ///< measured outputs, in the documented order
+  std::vector<const MeasuredColumn*> sigma_columns;  ///< outputs some row gives its own sigma of
+  std::vector<std::string> override_names;  ///< union of the row overrides, first seen first
 };
 
 [[noreturn]] void failTable(const std::string& yaml_path, const std::string& message) {
@@ -132,11 +133,26 @@ TableLayout tableLayout(const SteadyStateTable& table, const std::string& yaml_p
            "' (allowed: " + joined(steadyOutputNames(), ", ") + ")");
   for (const MeasuredColumn& m : measuredColumns()) {
     if (!used.count(m.output)) continue;
-    const auto it = table.noise.find(m.output);
-    if (it == table.noise.end())
-      fail(std::string("no noise for measured output '") + m.output + "'");
+    bool own = false;
+    for (const SteadyStateRow& row : table.rows) {
+      const auto value = row.measured.find(m.output);
+      const double sigma = row.sigmaOf(m.output, table.noise);
+      if (value != row.measured.end() && !std::isnan(value->second) && !std::isfinite(sigma))
+        fail(std::string("no noise for measured output '") + m.output +
+             "' (neither the table's nor the row's own)");
+      if (row.sigma.count(m.output)) {
+        own = true;
+        if (!(sigma > 0.0) || !std::isfinite(sigma))
+          fail("a row's own sigma of '" + std::string(m.output) + "' must be > 0, got " +
+               csv::formatNumber(sigma));
+      }
+    }
     layout.columns.push_back(&m);
+    if (own) layout.sigma_columns.push_back(&m);
   }
+  for (const SteadyStateRow& row : table.rows)
+    for (const auto& [name, sigma] : row.sigma)
+      if (!used.count(name)) fail("a row gives a sigma of '" + name + "', which no row measures");
   if (layout.columns.empty()) fail("no row measures any output");
   for (const auto& [name, sigma] : table.noise)
     if (!(sigma > 0.0) || !std::isfinite(sigma))
@@ -152,6 +168,8 @@ std::string tableCsvText(const SteadyStateTable& table, const TableLayout& layou
   if (layout.any_time) header.push_back("time_s");
   header.push_back("omega_T_rpm");
   for (const MeasuredColumn* m : layout.columns) header.push_back(m->column);
+  for (const MeasuredColumn* m : layout.sigma_columns)
+    header.push_back(std::string("sigma_") + m->column);
   for (const std::string& name : layout.override_names) header.push_back(name);
   text += csv::joinLine(header) + "\n";
   for (const SteadyStateRow& row : table.rows) {
@@ -162,6 +180,10 @@ std::string tableCsvText(const SteadyStateTable& table, const TableLayout& layou
     for (const MeasuredColumn* m : layout.columns) {
       const auto it = row.measured.find(m->output);
       fields.push_back(it == row.measured.end() ? "" : csv::formatNumber(it->second / m->to_si));
+    }
+    for (const MeasuredColumn* m : layout.sigma_columns) {
+      const auto it = row.sigma.find(m->output);
+      fields.push_back(it == row.sigma.end() ? "" : csv::formatNumber(it->second / m->to_si));
     }
     for (const std::string& name : layout.override_names) {
       std::string value;

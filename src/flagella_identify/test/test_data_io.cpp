@@ -255,6 +255,85 @@ TEST(DataIo, BagMetadataWithoutTheBagLibraryIsAnError) {
 
 // ------------------------------------------------------------------------------ round trips
 
+TEST(DataIo, PerRowUncertaintyOverridesTheTableNoise) {
+  // Speed only, with its own uncertainty in some rows; rows of two tail counts in one table.
+  TempDir dir;
+  dir.write("t.csv",
+            "omega_T_rpm,v_mm_s,sigma_v_mm_s,robot.n_tails\n"
+            "100,1.5,0.02,2\n"
+            "150,2.5,,3\n");
+  const MeasuredData data = readMeasuredData(
+      dir.write("t.yaml", "kind: steady_state\ncsv: t.csv\nnoise:\n  v_mm_s: 0.003\n"));
+  const SteadyStateTable& t = data.tables.at(0);
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_NEAR(t.rows[0].sigmaOf("v", t.noise), 2e-5, 1e-18);  // mm/s -> m/s
+  EXPECT_NEAR(t.rows[1].sigmaOf("v", t.noise), 3e-6, 1e-18);  // the table's
+  EXPECT_TRUE(std::isnan(t.rows[1].sigmaOf("omega_h", t.noise)));
+  EXPECT_EQ(t.rows[1].overrides, (std::vector<ConfigOverride>{{"robot.n_tails", "3"}}));
+  // Every row with its own: the metadata needs no noise for the column.
+  dir.write("u.csv", "omega_T_rpm,omega_h_rpm,sigma_omega_h_rpm\n100,5,0.4\n120,,\n");
+  const MeasuredData rates_only =
+      readMeasuredData(dir.write("u.yaml", "kind: steady_state\ncsv: u.csv\n"));
+  EXPECT_NEAR(rates_only.tables[0].rows[0].sigmaOf("omega_h", rates_only.tables[0].noise),
+              units::rpmToRadPerSec(0.4), 1e-15);
+}
+
+TEST(DataIoErrors, PerRowUncertaintyProblems) {
+  TempDir dir;
+  const char* bare = "kind: steady_state\ncsv: t.csv\n";
+  dir.write("t.csv", "omega_T_rpm,v_mm_s,sigma_v_mm_s\n100,1.5,0.02\n150,2.5,\n");
+  const std::string yaml = dir.write("t.yaml", bare);
+  EXPECT_TRUE(startsWith(readError(yaml), dir.path().string() + "/t.csv:3:2: 'v_mm_s' has no "
+                                                                "uncertainty in this row"))
+      << readError(yaml);
+  dir.write("t.csv", "omega_T_rpm,v_mm_s,sigma_v_mm_s\n100,1.5,0\n");
+  EXPECT_NE(readError(yaml).find("column 'sigma_v_mm_s': 0 mm/s is outside the plausible range"),
+            std::string::npos)
+      << readError(yaml);
+  dir.write("t.csv", "omega_T_rpm,v_mm_s,sigma_omega_h_rpm\n100,1.5,0.5\n");
+  const std::string with_noise =
+      dir.write("n.yaml", "kind: steady_state\ncsv: t.csv\nnoise:\n  v_mm_s: 0.003\n");
+  EXPECT_TRUE(startsWith(readError(with_noise), dir.path().string() +
+                                                    "/t.csv:1:3: column 'sigma_omega_h_rpm' gives "
+                                                    "the uncertainty of 'omega_h_rpm', which the "
+                                                    "table does not have"))
+      << readError(with_noise);
+}
+
+TEST(DataIo, PerRowUncertaintyRoundTrip) {
+  SteadyStateTable t;
+  t.settle_time = 5.0;
+  t.window = 10.0;
+  t.noise = {{"omega_h", 0.05}};
+  for (int i = 0; i < 3; ++i) {
+    SteadyStateRow r;
+    r.omega_T = 10.0 * (i + 1);
+    r.measured["v"] = 1e-3 * (i + 1);
+    r.sigma["v"] = 2e-6 * (i + 1);  // speed: every row its own, no table noise
+    r.measured["omega_h"] = -0.5 * i;
+    if (i == 1) r.sigma["omega_h"] = 0.2;  // one row overrides the table's
+    t.rows.push_back(r);
+  }
+  TempDir dir;
+  const std::string yaml = (dir.path() / "table.yaml").string();
+  writeSteadyStateTable(t, yaml);
+  const SteadyStateTable u = readMeasuredData(yaml).tables.at(0);
+  ASSERT_EQ(u.rows.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    for (const char* output : {"v", "omega_h"})
+      EXPECT_NEAR(u.rows[i].sigmaOf(output, u.noise), t.rows[i].sigmaOf(output, t.noise),
+                  1e-9 * t.rows[i].sigmaOf(output, t.noise))
+          << i << " " << output;
+    EXPECT_EQ(u.rows[i].sigma.size(), t.rows[i].sigma.size()) << i;
+  }
+  // A measured value with no uncertainty at all cannot be written.
+  t.rows[2].sigma.erase("v");
+  EXPECT_NE(errorMessageOf<DataError>([&] {
+              writeSteadyStateTable(t, yaml);
+            }).find("no noise for measured output 'v'"),
+            std::string::npos);
+}
+
 TEST(DataIo, SteadyStateTableRoundTrip) {
   SteadyStateTable t;
   t.description = "design 2: \"quoted\", with commas";

@@ -272,3 +272,37 @@ TEST(Calibration, RecoversDrawnTruthWithinItsUncertainty) {
 }  // namespace
 }  // namespace identify
 }  // namespace flagella
+
+namespace flagella::identify {
+namespace {
+
+TEST(Evaluation, ARowsOwnUncertaintyNormalisesItsResiduals) {
+  // Two experiments alike but for the uncertainty: the second row's own sigma is 8x the table's
+  // noise, so its residual in sigmas is the first's / 8 (the model is the same run).
+  const std::string config = FLAGELLA_CONFIG_DIR "/identification/granular_design1_coarse.yaml";
+  SteadyStateTable table;
+  table.settle_time = 2.0;
+  table.window = 2.0;
+  table.noise["v"] = 1e-5;
+  for (int i = 0; i < 2; ++i) {
+    SteadyStateRow row;
+    row.omega_T = units::rpmToRadPerSec(150.0);
+    row.measured["v"] = 0.0;
+    if (i == 1) row.sigma["v"] = 8e-5;
+    table.rows.push_back(row);
+  }
+  MeasuredData data;
+  data.tables.push_back(table);
+  const Model model(loadConfigTree(config), config, {});
+  const Evaluator evaluator(data, makeSplit(data, 1000), {});
+  const Evaluation e = evaluator.evaluate(model, model.values(), Part::kAll);
+  ASSERT_TRUE(e.ok) << e.failure;
+  ASSERT_EQ(e.points.size(), 2u);
+  EXPECT_DOUBLE_EQ(e.points[0].sigma, 1e-5);
+  EXPECT_DOUBLE_EQ(e.points[1].sigma, 8e-5);
+  ASSERT_GT(std::abs(e.points[0].z()), 1.0);  // the robot moves: a residual to compare
+  EXPECT_NEAR(e.points[1].z(), e.points[0].z() / 8.0, 1e-12 * std::abs(e.points[0].z()));
+}
+
+}  // namespace
+}  // namespace flagella::identify

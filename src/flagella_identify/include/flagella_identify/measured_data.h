@@ -34,6 +34,11 @@ struct SteadyStateRow {
   double time = kMissing;  ///< start of the experiment in the session [s] (optional)
   std::vector<ConfigOverride> overrides;   ///< per-row config fields (n_tails, tail length, ...)
   std::map<std::string, double> measured;  ///< output name -> value (NaN = not measured)
+  /// output name -> this row's one standard deviation (SI), from a sigma_<column> cell; the
+  /// table's noise applies where absent
+  std::map<std::string, double> sigma;
+  /// The uncertainty of the row's `output`: its own, else the table's (NaN if neither).
+  double sigmaOf(const std::string& output, const std::map<std::string, double>& table_noise) const;
 };
 
 struct SteadyStateTable {
@@ -42,7 +47,8 @@ struct SteadyStateTable {
   std::string description;                ///< free text from the metadata
   double settle_time = 0.0;               ///< time the robot ran before the measurement window [s]
   double window = 0.0;                    ///< length of the measurement window [s]
-  std::map<std::string, double> noise;    ///< output name -> one standard deviation (SI)
+  std::map<std::string, double> noise;    ///< output name -> one standard deviation (SI); rows
+                                          ///< may give their own (SteadyStateRow::sigma)
   std::vector<ConfigOverride> overrides;  ///< config fields common to all rows
   std::vector<SteadyStateRow> rows;
 };
