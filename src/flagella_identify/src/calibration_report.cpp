@@ -49,6 +49,7 @@ std::string markdown(const CalibrationResult& r, const MeasuredData& data,
     md << "| `" << r.parameters[i].name << "` | " << formatted("%.4g", r.start[i].value) << " | "
        << formatted("%.4g", r.parameters[i].value) << " | "
        << formatted("%.2g", r.parameters[i].uncertainty) << " | " << r.parameters[i].unit << " |\n";
+  for (const std::string& w : offTheMap(r.parameters)) md << "\n- **Off its map:** " << w;
   md << formatted("\nFit quality: chi^2 %.4g over %.0f residuals, RMS z %.3g", r.quality.chi_square,
                   r.quality.count, r.quality.rms_z)
      << formatted(" (1 = the stated noise; noise test z = %.2f).\n\n", r.quality.noise_z);
@@ -85,6 +86,7 @@ std::vector<std::string> writeCalibrationReport(const CalibrationResult& r,
   j["inputs"] = {{"data", data_files}, {"baseline_config", baseline_config}};
   j["start"] = parametersJson(r.start);
   j["parameters"] = parametersJson(r.parameters);
+  j["off_the_map"] = offTheMap(r.parameters);
   j["fit"] = {{"method", r.fit.method},
               {"evaluations", r.fit.evaluations},
               {"iterations", r.fit.iterations},

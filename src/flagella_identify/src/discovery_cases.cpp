@@ -72,6 +72,22 @@ static std::vector<DiscoveryCase> makeDiscoveryCases() {
     cases.push_back({c.name, {c.name}, false, c.steady_table_data});
   cases.push_back({"granular_yield+dc_motor", {"granular_yield", "dc_motor"}, false, true});
   cases.push_back({"unknown_ripple", {}, true, false});
+  // docs/model.md 7.6: lateral forces strong enough to run a position-fitted baseline off its
+  // map, on robots of 2 to 5 tails
+  // docs/model.md 7.6: small tables, cross-validated; a yield only the fastest rows show, a
+  // yield no row shows (the right verdict: "cannot tell", with the yield suggested), none
+  cases.push_back(
+      {"sparse_yield_5_rows", {"granular_yield"}, false, true, 0, 1.5, {40, 70, 100, 160, 250}});
+  cases.push_back(
+      {"sparse_yield_3_fast_rows", {"granular_yield"}, false, true, 0, 1.0, {200, 230, 260}});
+  cases.push_back({"sparse_null_4_rows", {}, false, true, 0, 1.0, {60, 120, 180, 240}});
+  for (int tails = 2; tails <= 5; ++tails)
+    cases.push_back({"strong_lateral_" + std::to_string(tails) + "_tails",
+                     {"interface_lateral_force"},
+                     false,
+                     false,
+                     tails,
+                     40.0});
   return cases;
 }
 
@@ -91,7 +107,9 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
                            const EvaluatorOptions& options) {
   std::mt19937_64 rng(seed * 7919 + 17);
   GeneratedCase out;
-  Model truth(baseline, baseline_source, caseFreeParameters());
+  YAML::Node robot = YAML::Clone(baseline);
+  if (c.tails > 0) robot["robot"]["n_tails"] = c.tails;
+  Model truth(robot, baseline_source, caseFreeParameters());
   std::vector<double> values = truth.values();
   for (size_t i = 0; i < values.size(); ++i) {
     values[i] *= logUniform(rng, 0.8, 1.25);
@@ -105,7 +123,7 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
     const std::vector<double> defaults = truth.values();  // new variables start at defaults
     values.insert(values.end(), defaults.begin() + values.size(), defaults.end());
     for (const TypicalStrength& r : rangesOf(candidate, rng)) {
-      double v = r.low == r.high ? r.low : logUniform(rng, r.low, r.high);
+      double v = (r.low == r.high ? r.low : logUniform(rng, r.low, r.high)) * c.strength_scale;
       if (r.random_sign && std::uniform_int_distribution<int>(0, 1)(rng) == 1) v = -v;
       // by name: the ranges need not list an effect's variables in the candidate's order
       const int index = truth.indexOf(r.variable);
@@ -118,7 +136,12 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
   truth.setValues(values);
   out.truth_config = truth.extendedConfig();
   if (c.table) {
-    out.data.tables.push_back(generateTable(truth, tablePlan(), seed, options));
+    TablePlan plan = tablePlan();
+    if (!c.sparse_rpm.empty()) {
+      plan.omega_rpm = c.sparse_rpm;
+      plan.n_tails = {2};
+    }
+    out.data.tables.push_back(generateTable(truth, plan, seed, options));
     out.data.tables.back().source = "<" + c.name + " seed " + std::to_string(seed) + ">";
   } else {
     SeriesPlan plan = seriesPlan();
@@ -129,6 +152,8 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
       out.truth["motor_ripple.period"] = plan.ripple_period;
     }
     out.data.series.push_back(generateSeries(truth, plan, seed, options));
+    if (c.tails > 0)
+      out.data.series.back().overrides = {{"robot.n_tails", std::to_string(c.tails)}};
     out.data.series.back().source = "<" + c.name + " seed " + std::to_string(seed) + ">";
   }
   for (const auto& [name, v] : out.truth) description << name << " = " << v << "; ";

@@ -14,6 +14,8 @@
 #include "flagella_sim/runtime/exact_json.h"
 #include "flagella_sim/runtime/parallel_for.h"
 #include "flagella_sim/simulation/simulation.h"
+#include "interpolate.h"
+#include "series_features.h"
 
 namespace flagella {
 namespace identify {
@@ -136,17 +138,6 @@ bool predictedOutput(const SummaryMetrics& m, const std::string& name, double& p
   else
     return false;
   return true;
-}
-
-/// Model value at a data time `t`: linear interpolation between the simulated samples at
-/// `times`; `member(i)` is the value at sample i.
-template <typename Member>
-auto interpolateAt(const std::vector<double>& times, double t, Member member) {
-  const auto it = std::lower_bound(times.begin(), times.end(), t);
-  size_t i = std::min<size_t>(std::max<ptrdiff_t>(it - times.begin(), 1), times.size() - 1);
-  const double w = (t - times[i - 1]) / (times[i] - times[i - 1]);
-  using Value = std::decay_t<decltype(member(i))>;  // evaluated: no Eigen expression
-  return Value(member(i - 1) * (1.0 - w) + member(i) * w);
 }
 
 /// The residuals of sample `i` of series `s` (index `source`) against the simulated `trace`:
@@ -333,6 +324,13 @@ void Evaluator::runSeriesJob(const Model& model, const std::vector<double>& valu
   const double split = split_.series_split_time[job.source];
   const double t_end = part == Part::kTrain ? split : s.t.back();
   const SeriesTrace trace = traceSeries(model, values, job.source, t_end);
+  if (options_.series_features) {
+    if (part != Part::kHeldOut)
+      appendFeatureResiduals(s, job.source, s.t.front(), split, trace, trace.up, out);
+    if (part != Part::kTrain)
+      appendFeatureResiduals(s, job.source, split, s.t.back() + 1.0, trace, trace.up, out);
+    return;
+  }
   const int budget = options_.max_series_points;
   const std::vector<int> train = selectSamples(s, s.t.front(), split, budget * 6 / 10);
   const std::vector<int> held = selectSamples(s, split, s.t.back() + 1.0, budget * 4 / 10);
@@ -361,6 +359,7 @@ Evaluator::SeriesTrace Evaluator::traceSeries(const Model& model, const std::vec
   sim.setMotor(motor);
   sim.run(std::min(t_end, s.t.back()) - s.t.front() + cfg.dt);
   SeriesTrace trace;
+  trace.up = cfg.medium.up;
   const TrajectorySample& first = sim.trajectory().front();
   for (const TrajectorySample& sample : sim.trajectory()) {
     trace.t.push_back(s.t.front() + sample.time);

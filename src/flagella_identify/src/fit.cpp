@@ -297,6 +297,29 @@ bool uncertaintiesAt(const SimulationResiduals& cost, const Coordinates& coords,
 
 }  // namespace
 
+std::vector<std::string> offTheMap(const std::vector<FitParameter>& parameters) {
+  std::vector<std::string> out;
+  for (const FitParameter& p : parameters) {
+    const auto u = [&](double v) { return p.log_scale ? std::log(v) : v; };
+    const double width = u(p.upper) - u(p.lower);
+    const double sigma_u = p.log_scale ? p.uncertainty / p.value : p.uncertainty;
+    char line[240];
+    if (u(p.value) - u(p.lower) <= 1e-3 * width)
+      std::snprintf(line, sizeof line, "%s ended on its lower bound %.4g", p.name.c_str(), p.lower);
+    else if (u(p.upper) - u(p.value) <= 1e-3 * width)
+      std::snprintf(line, sizeof line, "%s ended on its upper bound %.4g", p.name.c_str(), p.upper);
+    else if (!std::isfinite(sigma_u))
+      std::snprintf(line, sizeof line, "%s has no uncertainty (not identifiable)", p.name.c_str());
+    else if (sigma_u > width)
+      std::snprintf(line, sizeof line, "%s = %.4g has an uncertainty wider than its range",
+                    p.name.c_str(), p.value);
+    else
+      continue;
+    out.push_back(line);
+  }
+  return out;
+}
+
 FitResult fitModel(Model& model, const Evaluator& evaluator, const FitOptions& options,
                    const std::vector<bool>& free) {
   // Ceres reports failed evaluations (a model that cannot be simulated at a trial point) by

@@ -187,14 +187,25 @@ void decideVerdict(IdentifyResult& result, const std::optional<ModelOutcome>& ch
 
 namespace {
 
-Split initialSplit(const MeasuredData& data) {
-  return wantsCrossValidation(data) ? trainingOnlySplit(data) : makeSplit(data);
+bool crossValidated(const MeasuredData& data, const IdentifyOptions& options) {
+  return options.cross_validation && wantsCrossValidation(data);
 }
 
 int rowCount(const MeasuredData& data) {
   int rows = 0;
   for (const SteadyStateTable& t : data.tables) rows += static_cast<int>(t.rows.size());
   return rows;
+}
+
+/// docs/model.md 7.6: a baseline off its map is never used silently: the summary says so.
+void cautionOffTheMap(IdentifyResult& result) {
+  const ModelOutcome& b = result.baseline;
+  if (b.warnings.empty()) return;
+  result.summary +=
+      " Caution: the calibrated baseline ended off its map (" + joined(b.warnings, "; ") + ")" +
+      (b.continuation ? ", also when fitted through the series' summary features first" : "") +
+      ": its figures are those of a model at the edge of its range, not a "
+      "calibration of the robot.";
 }
 
 }  // namespace
@@ -205,7 +216,9 @@ Identification::Identification(MeasuredData data, YAML::Node baseline, std::stri
       baseline_(YAML::Clone(baseline)),
       source_(std::move(baseline_source)),
       options_(std::move(options)),
-      evaluator_(data_, initialSplit(data_), options_.evaluator) {
+      evaluator_(data_,
+                 crossValidated(data_, options_) ? trainingOnlySplit(data_) : makeSplit(data_),
+                 options_.evaluator) {
   checkDataOverrides(data_, baseline_, source_, fittedNames(options_.free, options_.candidates));
 }
 
@@ -233,6 +246,37 @@ ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>
 
 ModelOutcome Identification::fitOnTraining(const std::vector<const Candidate*>& effects,
                                            const ModelOutcome& reference) {
+  ModelOutcome out = fitFrom(effects, reference, nullptr);
+  // docs/model.md 7.6: a baseline that ends off its map is fitted again by continuation
+  if (effects.empty() && options_.continuation && !data_.series.empty() &&
+      (!out.fitted || !out.warnings.empty())) {
+    say("    " + (out.fitted ? out.warnings.front() : out.note) +
+        "; fitting again by continuation (series summary features first)");
+    out = betterOf(std::move(out), fitByContinuation(effects, reference));
+  }
+  return out;
+}
+
+ModelOutcome Identification::fitByContinuation(const std::vector<const Candidate*>& effects,
+                                               const ModelOutcome& reference) {
+  EvaluatorOptions options = options_.evaluator;
+  options.series_features = true;
+  const Evaluator features(data_, evaluator_.split(), options);
+  return fitFrom(effects, reference, &features);
+}
+
+ModelOutcome Identification::betterOf(ModelOutcome direct, ModelOutcome continued) const {
+  const bool better =
+      continued.fitted && (!direct.fitted || continued.train_chi_square < direct.train_chi_square);
+  ModelOutcome& kept = better ? continued : direct;
+  kept.evaluations = direct.evaluations + continued.evaluations;
+  say(std::string("    kept the ") + (better ? "continuation" : "direct") + " fit" +
+      (kept.warnings.empty() ? "" : "; off its map: " + joined(kept.warnings, "; ")));
+  return std::move(kept);
+}
+
+ModelOutcome Identification::fitFrom(const std::vector<const Candidate*>& effects,
+                                     const ModelOutcome& reference, const Evaluator* features) {
   ModelOutcome out;
   Model model(baseline_, source_, options_.free);
   for (const Candidate* c : effects) {
@@ -240,9 +284,24 @@ ModelOutcome Identification::fitOnTraining(const std::vector<const Candidate*>& 
     out.effects.push_back(c->name);
   }
   out.label = effects.empty() ? "baseline" : joined(out.effects, " + ");
-  model.setValues(bestStartValues(evaluator_, model, effects, reference, out.evaluations));
-  say("  fitting " + out.label + " (" + std::to_string(model.parameters().size()) + " parameters)");
-  const FitResult fit = fitModel(model, evaluator_, fitOptionsFor(data_, options_.fit));
+  out.continuation = features != nullptr;
+  const Evaluator& first = features ? *features : evaluator_;
+  model.setValues(bestStartValues(first, model, effects, reference, out.evaluations));
+  say("  fitting " + out.label + " (" + std::to_string(model.parameters().size()) + " parameters)" +
+      (features ? " on the summary features" : ""));
+  const FitOptions options = fitOptionsFor(data_, options_.fit);
+  if (features) {
+    const FitResult stage = fitModel(model, *features, options);
+    out.evaluations += stage.evaluations;
+    if (!stage.ok) {
+      out.note = "summary features: " + stage.message;
+      say("    fit failed: " + out.note);
+      return out;
+    }
+    say(formatted("    features: %.0f iterations, chi^2 %.4g; then the samples", stage.iterations,
+                  stage.chi_square));
+  }
+  const FitResult fit = fitModel(model, evaluator_, options);
   out.evaluations += fit.evaluations;
   if (!fit.ok) {
     out.note = fit.message;
@@ -252,6 +311,9 @@ ModelOutcome Identification::fitOnTraining(const std::vector<const Candidate*>& 
   out.fitted = true;
   out.note = fit.message;
   out.parameters = model.parameters();
+  // the baseline's parameters: a candidate's variable at its "off" bound is the effect absent
+  out.warnings = offTheMap(std::vector<FitParameter>(
+      out.parameters.begin(), out.parameters.begin() + model.baselineCount()));
   out.extra_parameters = static_cast<int>(model.parameters().size()) - model.baselineCount();
   out.train_chi_square = fit.chi_square;
   out.train_count = fit.residual_count;
@@ -359,6 +421,26 @@ void Identification::fitCandidates(IdentifyResult& result) {
     result.candidates.push_back(fitModelOutcome({c}, result.baseline));
     result.total_evaluations += result.candidates.back().evaluations;
   }
+  // docs/model.md 7.6: a baseline off its map may have dragged the candidates fitted from it off
+  // too: unless one of them leaves a held-out residual within the noise, each again by
+  // continuation.
+  const ModelOutcome& base = result.baseline;
+  const bool explained =
+      std::any_of(result.candidates.begin(), result.candidates.end(),
+                  [](const ModelOutcome& m) { return m.fitted && m.noise_z <= kSignificanceZ; });
+  if (!options_.continuation || data_.series.empty() || base.warnings.empty() || explained) return;
+  say("the baseline ended off its map and no candidate fitted from it leaves a residual within "
+      "the noise: each candidate again by continuation");
+  for (ModelOutcome& m : result.candidates) {
+    if (m.note.rfind("not identifiable", 0) == 0) continue;
+    std::vector<const Candidate*> effects;
+    for (const std::string& name : m.effects) effects.push_back(&candidateByName(name));
+    say("candidate " + m.label + " by continuation");
+    ModelOutcome again = fitByContinuation(effects, base);
+    result.total_evaluations += again.evaluations;
+    if (again.fitted) judge(again, base);
+    m = betterOf(std::move(m), std::move(again));
+  }
 }
 
 void Identification::tryPairs(IdentifyResult& result, std::optional<ModelOutcome>& chosen) {
@@ -409,7 +491,7 @@ std::string suggestionText(const SuggestedMeasurement& s) {
 }  // namespace
 
 bool Identification::cannotTell(IdentifyResult& result) {
-  if (data_.tables.empty()) return false;
+  if (data_.tables.empty() || !options_.power_check) return false;
   const unsigned observables = observablesOf(data_);
   // The power of the training rows (every row with cross validation), against the baseline
   // calibrated on them: a conservative figure for a split, at no extra baseline fit.
@@ -464,7 +546,7 @@ bool Identification::cannotTell(IdentifyResult& result) {
 
 IdentifyResult Identification::run() {
   IdentifyResult result;
-  const bool cross_validate = wantsCrossValidation(data_);
+  const bool cross_validate = crossValidated(data_, options_);
   say("calibrating the baseline (" + source_ + ") on " +
       (cross_validate ? "every row (small table: cross validation follows)"
                       : "the training split"));
@@ -506,6 +588,7 @@ IdentifyResult Identification::run() {
     if (cannotTell(result)) return result;
     result.verdict = Verdict::kNoDiscrepancy;
     result.summary = noDiscrepancySummary(d);
+    cautionOffTheMap(result);
     std::vector<std::string> excluded;
     for (const PowerCheck& p : result.power)
       if (p.excluded) excluded.push_back(p.candidate);
@@ -527,6 +610,7 @@ IdentifyResult Identification::run() {
     result.gain = 1.0 - chosen->held_out_rms_z / std::max(1e-300, d.rms_z);
   }
   decideVerdict(result, chosen);
+  cautionOffTheMap(result);
   say("verdict: " + verdictText(result.verdict) +
       (result.named.empty() ? "" : " (" + joined(result.named, " + ") + ")"));
   return result;

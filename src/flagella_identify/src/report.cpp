@@ -66,6 +66,8 @@ json outcomeJson(const ModelOutcome& m) {
           {"effects", m.effects},
           {"fitted", m.fitted},
           {"note", m.note},
+          {"off_the_map", m.warnings},
+          {"continuation", m.continuation},
           {"parameters", parametersJson(m.parameters)},
           {"train_chi_square", m.train_chi_square},
           {"train_count", m.train_count},
@@ -281,7 +283,11 @@ std::string reportMarkdown(const IdentifyResult& r, const ReportInputs& inputs,
   markdownHead(md, r, inputs, named);
   md << "## 1. Calibrated baseline\n\n"
      << parameterTable(r.baseline.parameters) << "\nTraining chi^2 "
-     << num(r.baseline.train_chi_square) << " over " << r.baseline.train_count << " residuals.\n\n";
+     << num(r.baseline.train_chi_square) << " over " << r.baseline.train_count << " residuals"
+     << (r.baseline.continuation ? " (fitted through the series' summary features first)" : "")
+     << ".\n\n";
+  for (const std::string& w : r.baseline.warnings) md << "- **Off its map:** " << w << "\n";
+  if (!r.baseline.warnings.empty()) md << "\n";
   md << "## 2. Diagnosis of the calibrated baseline (held-out data)\n\nHeld-out RMS z "
      << num(r.baseline_diagnosis.rms_z, 3) << " over " << r.baseline_diagnosis.count
      << " residuals; noise test z = " << num(r.baseline_diagnosis.noise_z, 3)

@@ -22,6 +22,12 @@ namespace {
 /// nothing is named (and, for unknown, the verdict is an unexplained residual).
 bool correct(const DiscoveryCase& c, const IdentifyResult& r) {
   if (c.unknown) return r.verdict == Verdict::kUnexplained;
+  // "cannot tell", with every hidden effect among the suggested measurements' candidates
+  if (r.verdict == Verdict::kCannotTell && !c.hidden.empty())
+    return std::all_of(c.hidden.begin(), c.hidden.end(), [&](const std::string& h) {
+      return std::any_of(r.suggestions.begin(), r.suggestions.end(),
+                         [&](const SuggestedMeasurement& s) { return s.candidate == h; });
+    });
   std::vector<std::string> named = r.named, hidden = c.hidden;
   std::sort(named.begin(), named.end());
   std::sort(hidden.begin(), hidden.end());
@@ -35,20 +41,24 @@ int main(int argc, char** argv) {
   std::vector<std::string> cases;
   int first_seed = 1, seeds = 3, jobs = 2;
   std::string config = FLAGELLA_CONFIG_DIR "/identification/granular_design1_coarse.yaml";
-  bool verbose = false;
+  bool verbose = false, before = false;
   app.add_option("--cases", cases, "cases (default: all)")->delimiter(',');
   app.add_option("--first-seed", first_seed)->capture_default_str();
   app.add_option("--seeds", seeds, "seeds per case")->capture_default_str();
   app.add_option("--jobs", jobs)->capture_default_str();
   app.add_option("--config", config)->capture_default_str();
   app.add_flag("--verbose", verbose, "progress of every identification");
+  app.add_flag("--without-small-data-methods", before,
+               "without cross validation, power check and continuation fits (the pipeline "
+               "before them, for a before/after table)");
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
   if (cases.empty())
     for (const DiscoveryCase& c : discoveryCases()) cases.push_back(c.name);
   return flagella::cli::runGuarded([&] {
     const YAML::Node baseline = loadConfigTree(config, {});
     struct Tally {
-      int runs = 0, correct = 0;
+      int runs = 0, correct = 0, false_names = 0;
+      double seconds = 0.0;
       std::vector<double> gains;
       std::vector<std::string> outcomes;
     };
@@ -63,6 +73,7 @@ int main(int argc, char** argv) {
         IdentifyOptions o;
         o.free = caseFreeParameters();
         o.evaluator.jobs = jobs;
+        o.cross_validation = o.power_check = o.continuation = !before;
         if (verbose) o.progress = [](const std::string& l) { std::cout << "    " << l << "\n"; };
         Identification id(g.data, baseline, config, o);
         const IdentifyResult r = id.run();
@@ -72,6 +83,9 @@ int main(int argc, char** argv) {
         ++t.runs;
         const bool ok = correct(c, r);
         t.correct += ok;
+        t.seconds += seconds;
+        for (const std::string& n : r.named)
+          if (std::find(c.hidden.begin(), c.hidden.end(), n) == c.hidden.end()) ++t.false_names;
         std::string named;
         for (const std::string& n : r.named) named += (named.empty() ? "" : "+") + n;
         if (r.verdict == Verdict::kNamedCause) t.gains.push_back(r.gain);
@@ -85,7 +99,9 @@ int main(int argc, char** argv) {
         std::fflush(stdout);
       }
     }
-    std::printf("\n| case | runs | correct | median gain |\n|---|---|---|---|\n");
+    std::printf(
+        "\n| case | runs | right | false names | median gain | mean time |\n"
+        "|---|---|---|---|---|---|\n");
     for (const std::string& name : cases) {
       Tally& t = tally[name];
       std::sort(t.gains.begin(), t.gains.end());
@@ -94,7 +110,8 @@ int main(int argc, char** argv) {
               ? "-"
               : std::to_string(static_cast<int>(std::lround(100.0 * t.gains[t.gains.size() / 2]))) +
                     " %";
-      std::printf("| %s | %d | %d | %s |\n", name.c_str(), t.runs, t.correct, gain.c_str());
+      std::printf("| %s | %d | %d | %d | %s | %.0f s |\n", name.c_str(), t.runs, t.correct,
+                  t.false_names, gain.c_str(), t.seconds / std::max(1, t.runs));
     }
     return 0;
   });

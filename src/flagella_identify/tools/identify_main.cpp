@@ -46,6 +46,8 @@ void runCalibration(const MeasuredData& data, const YAML::Node& baseline, const 
     std::printf("  %s = %.6g +- %.2g %s (start %.6g)\n", p.name.c_str(), p.value, p.uncertainty,
                 p.unit.c_str(), result.start[i].value);
   }
+  for (const std::string& w : offTheMap(result.parameters))
+    std::printf("  warning: %s: this calibration is at the edge of its range\n", w.c_str());
   std::fflush(stdout);
   for (const std::string& f : writeCalibrationReport(result, data, data_files, config, out_dir))
     std::cout << "wrote " << f << "\n";

@@ -23,7 +23,20 @@ struct DiscoveryCase {
   std::vector<std::string> hidden;  ///< candidate effects in the truth (empty: none or unknown)
   bool unknown = false;             ///< an effect outside the candidate list is hidden
   bool table = true;                ///< steady-state table (true) or time series (false)
+  int tails = 0;                    ///< robot.n_tails of the data (0: the baseline config's)
+  /// Strength drawn from the typical range x this (40: a lateral force that makes the robot
+  /// circle on a radius well under a body length, strong enough to defeat the baseline).
+  double strength_scale = 1.0;
+  /// A sparse table: these motor rates [rpm] on a 2-tailed robot instead of the standard plan
+  /// (7 rates x 2 and 3 tails); empty: the standard plan.
+  std::vector<double> sparse_rpm;
 };
+
+/// Whether an identification's verdict is right for a case: the named set is the hidden one;
+/// for a hidden effect, "cannot tell" with it among the suggested measurements' candidates is
+/// also right (the data could not show it); nothing named for a null case; an unexplained
+/// residual for an effect outside the list.
+bool rightVerdict(const DiscoveryCase& c, const struct IdentifyResultView& r);
 
 const std::vector<DiscoveryCase>& discoveryCases();
 const DiscoveryCase& discoveryCaseByName(const std::string& name);

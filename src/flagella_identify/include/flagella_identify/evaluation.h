@@ -55,6 +55,10 @@ struct EvaluatorOptions {
   int jobs = 1;                    ///< simulations run in parallel
   int max_series_points = 240;     ///< residual samples per series (evenly spaced)
   double solver_tolerance = 1e-7;  ///< Newton residual tolerance during identification
+  /// Series give phase-free summary features (speed, yaw rate, turn rates per stretch of
+  /// constant command; series_features.h) instead of their samples: the first stage of a
+  /// continuation fit (docs/model.md 7.6).
+  bool series_features = false;
 };
 
 class Evaluator {
@@ -75,6 +79,7 @@ class Evaluator {
     std::vector<double> t;
     std::vector<Vec3> position, axis;
     std::vector<double> head_turns, tail_turns;
+    Vec3 up = Vec3::UnitZ();  ///< the model's world vertical
   };
   SeriesTrace traceSeries(const Model& model, const std::vector<double>& values, int series,
                           double t_end = 1e300) const;

@@ -41,6 +41,11 @@ struct FitResult {
   std::string method;  ///< "Levenberg-Marquardt" or "Brent"
 };
 
+/// What puts a fitted parameter off its map (docs/model.md 7.6), one line each: ended within a
+/// thousandth of its range (in the fit coordinate) of a bound, or with a one-sigma uncertainty
+/// wider than its whole range, or none at all (not identifiable). Empty: every one is inside.
+std::vector<std::string> offTheMap(const std::vector<FitParameter>& parameters);
+
 /// Fits the parameters whose `free` flag is set (all if empty), starting from model values.
 /// The model's values are set to the result. It never ends above its start: should the
 /// optimiser, the start values are kept (sigma NaN, said in the message).

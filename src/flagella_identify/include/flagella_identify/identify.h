@@ -23,6 +23,12 @@ struct IdentifyOptions {
   std::vector<std::string> free;        ///< baseline config paths to fit
   std::vector<std::string> candidates;  ///< candidate names; empty = the standard list
   int max_effects = 2;                  ///< largest number of effects named together
+  /// The methods of docs/model.md 7.6, each on by default (off: the pipeline without it, for
+  /// before/after comparisons): cross validation of small tables, the power check ("cannot
+  /// tell"), continuation fits of a baseline off its map.
+  bool cross_validation = true;
+  bool power_check = true;
+  bool continuation = true;
   EvaluatorOptions evaluator;
   FitOptions fit;
   std::function<void(const std::string&)> progress;
@@ -34,6 +40,10 @@ struct ModelOutcome {
   std::vector<std::string> effects;  ///< candidate names in the model
   bool fitted = false;
   std::string note;  ///< why it was not fitted, or how the fit ended
+  /// Parameters that ended off their map (fit.h offTheMap), after the continuation fit if
+  /// one was tried; reported, never silently accepted.
+  std::vector<std::string> warnings;
+  bool continuation = false;  ///< the fit went through the series' summary features first
   std::vector<FitParameter> parameters;
   int extra_parameters = 0;  ///< parameters beyond the baseline's
   double train_chi_square = 0.0;
@@ -96,9 +106,20 @@ class Identification {
  private:
   ModelOutcome fitModelOutcome(const std::vector<const Candidate*>& effects,
                                const ModelOutcome& reference);
-  /// The fit on the training data (every row with cross validation), not yet judged.
+  /// The fit on the training data (every row with cross validation), not yet judged. With time
+  /// series, a baseline fit that ends off its map is tried again by continuation (summary
+  /// features first, then the samples) and the better one kept (candidates: fitCandidates).
   ModelOutcome fitOnTraining(const std::vector<const Candidate*>& effects,
                              const ModelOutcome& reference);
+  /// The fit through the series' summary features first, then the samples.
+  ModelOutcome fitByContinuation(const std::vector<const Candidate*>& effects,
+                                 const ModelOutcome& reference);
+  /// The one of lower training chi^2 (the continuation's only if it is fitted), with both
+  /// fits' evaluations.
+  ModelOutcome betterOf(ModelOutcome direct, ModelOutcome continued) const;
+  /// One fit from the best start; with `features`, fitted on them first, then on the samples.
+  ModelOutcome fitFrom(const std::vector<const Candidate*>& effects, const ModelOutcome& reference,
+                       const Evaluator* features);
   /// The held-out residuals of a fitted outcome (each fold's refit with cross validation) and
   /// the scores against `reference`; unfitted when they cannot be simulated.
   void judge(ModelOutcome& out, const ModelOutcome& reference);
