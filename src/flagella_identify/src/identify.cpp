@@ -443,6 +443,17 @@ void Identification::fitCandidates(IdentifyResult& result) {
   }
 }
 
+int Identification::fewestTrainingRows() const {
+  int fewest = rowCount(data_);
+  for (const Split& fold : folds_->folds) {
+    int held = 0;
+    for (const auto& table : fold.table_row_held_out)
+      held += static_cast<int>(std::count(table.begin(), table.end(), true));
+    fewest = std::min(fewest, rowCount(data_) - held);
+  }
+  return fewest;
+}
+
 void Identification::tryPairs(IdentifyResult& result, std::optional<ModelOutcome>& chosen) {
   // One effect not enough: add a second one to the best and keep it if it is significant. Only
   // a first effect that explains a sizeable share can mask a second one; when the best single
@@ -464,6 +475,15 @@ void Identification::tryPairs(IdentifyResult& result, std::optional<ModelOutcome
       if (!m.fitted || m.label == first.label) continue;
       std::vector<const Candidate*> pair{&candidateByName(first.effects[0]),
                                          &candidateByName(m.effects[0])};
+      // docs/model.md 7.6: with cross validation, no model with more parameters than a fold
+      // trains rows (each row is one motor rate)
+      const size_t parameters = first.parameters.size() + pair[1]->variables.size();
+      if (folds_ && static_cast<int>(parameters) > fewestTrainingRows()) {
+        say("  " + first.label + " + " + m.label +
+            formatted(" not tried: %.0f parameters, more than the %.0f rows a fold trains on",
+                      parameters, fewestTrainingRows()));
+        continue;
+      }
       ModelOutcome combined = fitModelOutcome(pair, first);
       result.total_evaluations += combined.evaluations;
       result.combinations.push_back(combined);

@@ -136,6 +136,8 @@ class Identification {
   /// mask a second effect, fits it paired with each other fitted candidate (into
   /// result.combinations) and replaces `chosen` by the best significant pair.
   void tryPairs(IdentifyResult& result, std::optional<ModelOutcome>& chosen);
+  /// With cross validation: the fewest rows any fold trains on.
+  int fewestTrainingRows() const;
   void say(const std::string& line) const;
 
   MeasuredData data_;
