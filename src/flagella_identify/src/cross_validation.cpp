@@ -155,6 +155,13 @@ CrossValidationPlan planFolds(const MeasuredData& data, const RowInformation& in
   return plan;
 }
 
+int heldOutRowCount(const Split& split) {
+  int held = 0;
+  for (const auto& table : split.table_row_held_out)
+    held += static_cast<int>(std::count(table.begin(), table.end(), true));
+  return held;
+}
+
 Split heldOutInSomeFold(const MeasuredData& data, const CrossValidationPlan& plan) {
   Split out = trainingOnlySplit(data);
   for (const Split& fold : plan.folds)

@@ -445,12 +445,8 @@ void Identification::fitCandidates(IdentifyResult& result) {
 
 int Identification::fewestTrainingRows() const {
   int fewest = rowCount(data_);
-  for (const Split& fold : folds_->folds) {
-    int held = 0;
-    for (const auto& table : fold.table_row_held_out)
-      held += static_cast<int>(std::count(table.begin(), table.end(), true));
-    fewest = std::min(fewest, rowCount(data_) - held);
-  }
+  for (const Split& fold : folds_->folds)
+    fewest = std::min(fewest, rowCount(data_) - heldOutRowCount(fold));
   return fewest;
 }
 
@@ -497,9 +493,7 @@ namespace {
 /// One suggested measurement in words, in display units.
 std::string suggestionText(const SuggestedMeasurement& s) {
   const auto [unit, factor] = displayUnit(s.output);
-  std::string where;
-  for (const ConfigOverride& o : s.overrides)
-    where += (where.empty() ? "" : ", ") + o.first + " " + o.second;
+  const std::string where = configurationText(s);
   return "measure " + s.output + formatted(" at %.4g rpm", s.omega_T * units::kRpmPerRadPerSec) +
          (where.empty() ? "" : " (" + where + ")") +
          formatted(": the baseline predicts %.4g ", s.baseline * factor) + unit + ", with " +
@@ -585,13 +579,9 @@ IdentifyResult Identification::run() {
       return result;
     }
   } else {
-    const Split split = evaluator_.split();
-    int held = 0;
-    for (const auto& table : split.table_row_held_out)
-      held += static_cast<int>(std::count(table.begin(), table.end(), true));
-    result.validation =
-        formatted("held-out split (%.0f of %.0f table rows", held, rowCount(data_)) +
-        (data_.series.empty() ? ")" : "; the last 40 % of each series)");
+    result.validation = formatted("held-out split (%.0f of %.0f table rows",
+                                  heldOutRowCount(evaluator_.split()), rowCount(data_)) +
+                        (data_.series.empty() ? ")" : "; the last 40 % of each series)");
   }
   judge(result.baseline, none);
   result.total_evaluations += result.baseline.evaluations;

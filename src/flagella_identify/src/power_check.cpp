@@ -98,6 +98,13 @@ MeasuredData suggestionGrid(const MeasuredData& data) {
 
 }  // namespace
 
+std::string configurationText(const SuggestedMeasurement& s) {
+  std::string text;
+  for (const ConfigOverride& o : s.overrides)
+    text += (text.empty() ? "" : ", ") + o.first + " " + o.second;
+  return text;
+}
+
 std::vector<double> weakestTypicalStrength(const Candidate& c) {
   std::vector<double> strength;
   bool any = false;

@@ -266,11 +266,8 @@ void powerSection(std::ostringstream& md, const IdentifyResult& r) {
         "omega_T [rpm] | config | output | baseline | with the effect | noise | sigmas apart "
         "|\n|---|---|---|---|---|---|---|---|\n";
   for (const SuggestedMeasurement& s : r.suggestions) {
-    std::string where;
-    for (const ConfigOverride& o : s.overrides)
-      where += (where.empty() ? "" : ", ") + o.first + " " + o.second;
     md << "| " << s.candidate << " | " << num(s.omega_T * units::kRpmPerRadPerSec, 4) << " | "
-       << where << " | " << s.output << " | " << num(s.baseline, 4) << " | "
+       << configurationText(s) << " | " << s.output << " | " << num(s.baseline, 4) << " | "
        << num(s.with_effect, 4) << " | " << num(s.sigma, 3) << " | " << num(s.separation, 3)
        << " |\n";
   }

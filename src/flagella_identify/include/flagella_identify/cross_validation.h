@@ -54,6 +54,9 @@ struct CrossValidationPlan {
 CrossValidationPlan planFolds(const MeasuredData& data, const RowInformation& information,
                               const std::vector<std::string>& names);
 
+/// How many table rows `split` holds out.
+int heldOutRowCount(const Split& split);
+
 /// The held-out rows of any fold, as one split (for plots and reports).
 Split heldOutInSomeFold(const MeasuredData& data, const CrossValidationPlan& plan);
 

@@ -37,6 +37,9 @@ struct SuggestedMeasurement {
   double separation = 0.0;                                ///< |with_effect - baseline| / sigma
 };
 
+/// A suggestion's row configuration as text: "robot.n_tails 2, ..." ("" for none).
+std::string configurationText(const SuggestedMeasurement& s);
+
 /// Suggestions at least this many sigmas apart are reported (the tool's significance level).
 constexpr double kDecisiveSeparation = 3.5;
 /// The suggestion grid spans the data's |omega_T| range from a quarter of its lowest rate to
