@@ -72,8 +72,6 @@ static std::vector<DiscoveryCase> makeDiscoveryCases() {
     cases.push_back({c.name, {c.name}, false, c.steady_table_data});
   cases.push_back({"granular_yield+dc_motor", {"granular_yield", "dc_motor"}, false, true});
   cases.push_back({"unknown_ripple", {}, true, false});
-  // docs/model.md 7.6: lateral forces strong enough to run a position-fitted baseline off its
-  // map, on robots of 2 to 5 tails
   // docs/model.md 7.6: small tables, cross-validated; a yield only the fastest rows show, a
   // yield no row shows (the right verdict: "cannot tell", with the yield suggested), none
   cases.push_back(
@@ -81,6 +79,8 @@ static std::vector<DiscoveryCase> makeDiscoveryCases() {
   cases.push_back(
       {"sparse_yield_3_fast_rows", {"granular_yield"}, false, true, 0, 1.0, {200, 230, 260}});
   cases.push_back({"sparse_null_4_rows", {}, false, true, 0, 1.0, {60, 120, 180, 240}});
+  // docs/model.md 7.6: lateral forces strong enough to run a position-fitted baseline off its
+  // map, on robots of 2 to 5 tails
   for (int tails = 2; tails <= 5; ++tails)
     cases.push_back({"strong_lateral_" + std::to_string(tails) + "_tails",
                      {"interface_lateral_force"},

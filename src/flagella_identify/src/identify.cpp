@@ -494,12 +494,20 @@ namespace {
 std::string suggestionText(const SuggestedMeasurement& s) {
   const auto [unit, factor] = displayUnit(s.output);
   const std::string where = configurationText(s);
+  const std::string reference = s.reference == "baseline" ? "the baseline" : "with " + s.reference;
   return "measure " + s.output + formatted(" at %.4g rpm", s.omega_T * units::kRpmPerRadPerSec) +
-         (where.empty() ? "" : " (" + where + ")") +
-         formatted(": the baseline predicts %.4g ", s.baseline * factor) + unit + ", with " +
-         s.candidate + formatted(" %.4g ", s.with_effect * factor) + unit +
+         (where.empty() ? "" : " (" + where + ")") + ": " + reference +
+         formatted(" predicts %.4g ", s.reference_value * factor) + unit + ", with " + s.candidate +
+         formatted(" %.4g ", s.candidate_value * factor) + unit +
          formatted(", noise %.3g ", s.sigma * factor) + unit +
          formatted(" (%.1f sigma apart)", s.separation);
+}
+
+/// "To decide: ..." of the suggestions.
+std::string decidingSteps(const std::vector<SuggestedMeasurement>& suggestions) {
+  std::vector<std::string> steps;
+  for (const SuggestedMeasurement& s : suggestions) steps.push_back(suggestionText(s));
+  return "To decide: " + joined(steps, "; ") + ".";
 }
 
 }  // namespace
@@ -550,12 +558,61 @@ bool Identification::cannotTell(IdentifyResult& result) {
           d.rms_z, d.count, d.noise_z) +
       joined(blind, " or ") +
       " at its weakest realistic strength either (the baseline with the effect fits them as "
-      "well, baseline parameters refitted). No effect is named, and none is ruled out. To "
-      "decide: ";
-  std::vector<std::string> steps;
-  for (const SuggestedMeasurement& s : result.suggestions) steps.push_back(suggestionText(s));
-  result.summary += joined(steps, "; ") + ".";
+      "well, baseline parameters refitted). No effect is named, and none is ruled out. " +
+      decidingSteps(result.suggestions);
   return true;
+}
+
+const ModelOutcome* closestRival(const IdentifyResult& result, const ModelOutcome& chosen) {
+  // docs/model.md 7.6: the one-parameter critical value at the tool's significance level
+  const double bar = chiSquareCritical(1);
+  const ModelOutcome* rival = nullptr;
+  for (const std::vector<ModelOutcome>* list : {&result.candidates, &result.combinations})
+    for (const ModelOutcome& m : *list) {
+      if (!m.fitted || !m.significant || m.label == chosen.label ||
+          m.effects.size() != chosen.effects.size() || m.explained < kExplainedShare ||
+          selectionScore(m) - selectionScore(chosen) >= bar)
+        continue;
+      if (!rival || selectionScore(m) < selectionScore(*rival)) rival = &m;
+    }
+  return rival;
+}
+
+void Identification::cannotTellBetween(IdentifyResult& result, const ModelOutcome& rival) {
+  const ModelOutcome& chosen = *result.chosen;
+  const Model first = modelOf(chosen), second = modelOf(rival);
+  result.suggestions =
+      separatingMeasurements({chosen.label, &first, first.values()},
+                             {rival.label, &second, second.values()}, data_, options_.evaluator);
+  if (!data_.tables.empty()) result.total_evaluations += 2;
+  const Diagnosis& d = result.baseline_diagnosis;
+  result.verdict = Verdict::kCannotTell;
+  result.named.clear();
+  result.summary =
+      "Cannot tell between " + chosen.label + " and " + rival.label +
+      formatted(
+          " from these data: the calibrated baseline misses the held-out data (RMS z %.2f, "
+          "noise test z = %.1f), and either effect explains it: held-out RMS z %.2f and %.2f, ",
+          d.rms_z, d.noise_z, chosen.held_out_rms_z, rival.held_out_rms_z) +
+      formatted(
+          "%.0f %% and %.0f %% of the excess removed; their scores (held-out chi^2 plus the "
+          "parsimony penalty) differ by %.2f, less than the p = 0.001 critical value %.1f for "
+          "one parameter. Neither is named. ",
+          100.0 * chosen.explained, 100.0 * rival.explained,
+          selectionScore(rival) - selectionScore(chosen), chiSquareCritical(1));
+  if (!result.suggestions.empty())
+    result.summary += decidingSteps(result.suggestions);
+  else if (data_.tables.empty())
+    result.summary +=
+        "No steady measurement is suggested: the data have no steady-state table whose noise "
+        "would rank one; a longer record, other commands or another measured quantity would "
+        "decide.";
+  else
+    result.summary += formatted(
+        "No steady measurement of the grid (%.0f rates, each configuration and output of the "
+        "table) separates them by %.1f sigma either.",
+        kSuggestionRates, kDecisiveSeparation);
+  say("verdict: cannot tell between " + chosen.label + " and " + rival.label);
 }
 
 IdentifyResult Identification::run() {
@@ -620,6 +677,9 @@ IdentifyResult Identification::run() {
     result.gain = 1.0 - chosen->held_out_rms_z / std::max(1e-300, d.rms_z);
   }
   decideVerdict(result, chosen);
+  if (result.verdict == Verdict::kNamedCause)
+    if (const ModelOutcome* rival = closestRival(result, *result.chosen))
+      cannotTellBetween(result, *rival);
   cautionOffTheMap(result);
   say("verdict: " + verdictText(result.verdict) +
       (result.named.empty() ? "" : " (" + joined(result.named, " + ") + ")"));

@@ -160,31 +160,40 @@ std::vector<SuggestedMeasurement> suggestMeasurements(const Model& baseline,
                                                       const PowerCheck& check,
                                                       const MeasuredData& data,
                                                       const EvaluatorOptions& options) {
-  std::vector<SuggestedMeasurement> out;
-  if (!check.checked) return out;
-  const MeasuredData grid = suggestionGrid(data);
-  if (grid.tables.empty()) return out;
+  if (!check.checked) return {};
   Model with_effect = baseline;
   with_effect.addCandidate(candidateByName(check.candidate));
+  return separatingMeasurements({"baseline", &baseline, baseline_values},
+                                {check.candidate, &with_effect, check.values}, data, options);
+}
+
+std::vector<SuggestedMeasurement> separatingMeasurements(const LabelledModel& reference,
+                                                         const LabelledModel& candidate,
+                                                         const MeasuredData& data,
+                                                         const EvaluatorOptions& options) {
+  std::vector<SuggestedMeasurement> out;
+  const MeasuredData grid = suggestionGrid(data);
+  if (grid.tables.empty()) return out;
   const Evaluator evaluator(grid, trainingOnlySplit(grid), options);
-  const Evaluation base = evaluator.evaluate(baseline, baseline_values, Part::kAll);
-  const Evaluation effect = evaluator.evaluate(with_effect, check.values, Part::kAll);
-  if (!base.ok || !effect.ok || base.points.size() != effect.points.size()) return out;
+  const Evaluation ref = evaluator.evaluate(*reference.model, reference.values, Part::kAll);
+  const Evaluation cand = evaluator.evaluate(*candidate.model, candidate.values, Part::kAll);
+  if (!ref.ok || !cand.ok || ref.points.size() != cand.points.size()) return out;
   std::vector<SuggestedMeasurement> all;
-  for (size_t i = 0; i < base.points.size(); ++i) {
-    const ResidualPoint& b = base.points[i];
+  for (size_t i = 0; i < ref.points.size(); ++i) {
+    const ResidualPoint& b = ref.points[i];
     SuggestedMeasurement s;
-    s.candidate = check.candidate;
+    s.candidate = candidate.label;
+    s.reference = reference.label;
     s.omega_T = b.omega_T;
     s.output = b.output;
     const SteadyStateTable& table = grid.tables[b.source];
     s.overrides = table.overrides;
     const std::vector<ConfigOverride>& row = table.rows[b.row].overrides;
     s.overrides.insert(s.overrides.end(), row.begin(), row.end());
-    s.baseline = b.model;
-    s.with_effect = effect.points[i].model;
+    s.reference_value = b.model;
+    s.candidate_value = cand.points[i].model;
     s.sigma = b.sigma;
-    s.separation = std::abs(s.with_effect - s.baseline) / s.sigma;
+    s.separation = std::abs(s.candidate_value - s.reference_value) / s.sigma;
     if (s.separation >= kDecisiveSeparation) all.push_back(s);
   }
   std::stable_sort(all.begin(), all.end(),

@@ -187,11 +187,12 @@ json reportJson(const IdentifyResult& r, const ReportInputs& inputs, const std::
     json overrides = json::object();
     for (const ConfigOverride& o : s.overrides) overrides[o.first] = o.second;
     j["suggested_measurements"].push_back({{"candidate", s.candidate},
+                                           {"reference", s.reference},
                                            {"omega_T_rpm", s.omega_T * units::kRpmPerRadPerSec},
                                            {"output", s.output},
                                            {"overrides", overrides},
-                                           {"baseline_si", s.baseline},
-                                           {"with_effect_si", s.with_effect},
+                                           {"reference_si", s.reference_value},
+                                           {"candidate_si", s.candidate_value},
                                            {"sigma_si", s.sigma},
                                            {"separation_sigma", s.separation}});
   }
@@ -249,27 +250,30 @@ void candidateSection(std::ostringstream& md, const IdentifyResult& r) {
 
 /// Section 3b of the Markdown report: the power of the data and the measurements that decide.
 void powerSection(std::ostringstream& md, const IdentifyResult& r) {
-  if (r.power.empty()) return;
-  md << "\n## 3b. Could these data have shown an effect?\n\nEach steady-state candidate at its "
-        "weakest realistic strength, baseline parameters refitted on every row:\n\n| candidate | "
-        "chi^2 increase | rules it out above | excluded |\n|---|---|---|---|\n";
-  for (const PowerCheck& p : r.power) {
-    if (!p.checked) {
-      md << "| " << p.candidate << " | not checked: " << p.note << " | | |\n";
-      continue;
+  if (r.power.empty() && r.suggestions.empty()) return;
+  md << "\n## 3b. Could these data have decided?\n";
+  if (!r.power.empty()) {
+    md << "\nEach steady-state candidate at its weakest realistic strength, baseline parameters "
+          "refitted on every row:\n\n| candidate | chi^2 increase | rules it out above | excluded "
+          "|\n|---|---|---|---|\n";
+    for (const PowerCheck& p : r.power) {
+      if (!p.checked) {
+        md << "| " << p.candidate << " | not checked: " << p.note << " | | |\n";
+        continue;
+      }
+      md << "| " << p.candidate << " | " << num(p.chi_square_increase, 3) << " | "
+         << num(p.threshold, 3) << " | " << (p.excluded ? "yes" : "no") << " |\n";
     }
-    md << "| " << p.candidate << " | " << num(p.chi_square_increase, 3) << " | "
-       << num(p.threshold, 3) << " | " << (p.excluded ? "yes" : "no") << " |\n";
   }
   if (r.suggestions.empty()) return;
-  md << "\nMeasurements that would decide (model predictions, SI units):\n\n| candidate | "
-        "omega_T [rpm] | config | output | baseline | with the effect | noise | sigmas apart "
-        "|\n|---|---|---|---|---|---|---|---|\n";
+  md << "\nMeasurements that would decide (model predictions, SI units):\n\n| reference | "
+        "candidate | omega_T [rpm] | config | output | reference predicts | candidate predicts | "
+        "noise | sigmas apart |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const SuggestedMeasurement& s : r.suggestions) {
-    md << "| " << s.candidate << " | " << num(s.omega_T * units::kRpmPerRadPerSec, 4) << " | "
-       << configurationText(s) << " | " << s.output << " | " << num(s.baseline, 4) << " | "
-       << num(s.with_effect, 4) << " | " << num(s.sigma, 3) << " | " << num(s.separation, 3)
-       << " |\n";
+    md << "| " << s.reference << " | " << s.candidate << " | "
+       << num(s.omega_T * units::kRpmPerRadPerSec, 4) << " | " << configurationText(s) << " | "
+       << s.output << " | " << num(s.reference_value, 4) << " | " << num(s.candidate_value, 4)
+       << " | " << num(s.sigma, 3) << " | " << num(s.separation, 3) << " |\n";
   }
 }
 

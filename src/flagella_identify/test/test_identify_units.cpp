@@ -7,10 +7,12 @@
 #include <map>
 #include <random>
 
+#include "flagella_identify/calibration.h"
 #include "flagella_identify/candidates.h"
 #include "flagella_identify/diagnosis.h"
 #include "flagella_identify/discovery_cases.h"
 #include "flagella_identify/fit.h"
+#include "flagella_identify/identify.h"
 #include "flagella_identify/model.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/effects/effect_registry.h"
@@ -302,6 +304,110 @@ TEST(Evaluation, ARowsOwnUncertaintyNormalisesItsResiduals) {
   EXPECT_DOUBLE_EQ(e.points[1].sigma, 8e-5);
   ASSERT_GT(std::abs(e.points[0].z()), 1.0);  // the robot moves: a residual to compare
   EXPECT_NEAR(e.points[1].z(), e.points[0].z() / 8.0, 1e-12 * std::abs(e.points[0].z()));
+}
+
+/// A fitted, significant outcome of `effects` with held-out chi^2 `chi` and penalty `penalty`
+/// that removes `explained` of the baseline's excess.
+ModelOutcome outcome(std::vector<std::string> effects, double chi, double penalty,
+                     double explained) {
+  ModelOutcome m;
+  m.effects = effects;
+  for (const std::string& e : effects) m.label += (m.label.empty() ? "" : " + ") + e;
+  m.fitted = true;
+  m.significant = true;
+  m.held_out_chi_square = chi;
+  m.penalty = penalty;
+  m.explained = explained;
+  return m;
+}
+
+TEST(CannotTellBetween, ARivalIsWithinTheOneParameterCriticalValue) {
+  // The chi-square critical value at p = 1e-3, one degree of freedom, is 10.828 (tables);
+  // selection score = held-out chi^2 + penalty.
+  IdentifyResult r;
+  r.candidates = {outcome({"a"}, 100.0, 5.0, 0.97), outcome({"b"}, 110.7, 5.0, 0.95),
+                  outcome({"c"}, 108.0, 8.0, 0.95), outcome({"d"}, 101.0, 5.0, 0.80)};
+  ModelOutcome unfitted = outcome({"e"}, 100.5, 5.0, 0.99);
+  unfitted.fitted = false;
+  ModelOutcome insignificant = outcome({"f"}, 100.5, 5.0, 0.99);
+  insignificant.significant = false;
+  r.candidates.push_back(unfitted);
+  r.candidates.push_back(insignificant);
+  r.combinations = {outcome({"a", "d"}, 100.2, 10.0, 0.99)};
+  const ModelOutcome chosen = r.candidates[0];
+  // b: 10.7 above (a rival); c: 11.0 above (told apart); d explains too little; e, f and the
+  // pair (more effects) are no rivals
+  const ModelOutcome* rival = closestRival(r, chosen);
+  ASSERT_NE(rival, nullptr);
+  EXPECT_EQ(rival->label, "b");
+  r.candidates[1].held_out_chi_square = 110.9;
+  EXPECT_EQ(closestRival(r, chosen), nullptr);
+  // the closer of two rivals
+  r.candidates[1].held_out_chi_square = 102.0;  // score 107
+  r.candidates[2].held_out_chi_square = 101.0;  // score 109
+  ASSERT_NE(closestRival(r, chosen), nullptr);
+  EXPECT_EQ(closestRival(r, chosen)->label, "b");
+  // pairs are told from pairs
+  r.combinations.push_back(outcome({"a", "b"}, 95.0, 10.0, 0.99));
+  ASSERT_NE(closestRival(r, r.combinations[0]), nullptr);
+  EXPECT_EQ(closestRival(r, r.combinations[0])->label, "a + b");
+}
+
+TEST(CannotTellBetween, SeparatingMeasurementsAreTheTwoModelsPredictions) {
+  const std::string config = FLAGELLA_CONFIG_DIR "/identification/granular_design1_coarse.yaml";
+  const YAML::Node baseline = loadConfigTree(config);
+  SteadyStateTable table;
+  table.settle_time = 3.0;
+  table.window = 4.0;
+  table.noise["v"] = 2e-5;
+  for (double rpm : {120.0, 240.0}) {
+    SteadyStateRow row;
+    row.omega_T = units::rpmToRadPerSec(rpm);
+    row.measured["v"] = 0.0;
+    table.rows.push_back(row);
+  }
+  MeasuredData data;
+  data.tables.push_back(table);
+  Model with_yield(baseline, config, {}), with_motor(baseline, config, {});
+  with_yield.addCandidate(candidateByName("granular_yield"));
+  with_motor.addCandidate(candidateByName("dc_motor"));
+  const std::vector<double> yield_values{6e-4}, motor_values{150.0};
+  EvaluatorOptions options;
+  options.jobs = 1;
+  const std::vector<SuggestedMeasurement> s =
+      separatingMeasurements({"granular_yield", &with_yield, yield_values},
+                             {"dc_motor", &with_motor, motor_values}, data, options);
+  ASSERT_FALSE(s.empty());
+  EXPECT_LE(s.size(), static_cast<size_t>(kSuggestionsPerCandidate));
+  for (size_t i = 0; i < s.size(); ++i) {
+    EXPECT_EQ(s[i].reference, "granular_yield");
+    EXPECT_EQ(s[i].candidate, "dc_motor");
+    EXPECT_EQ(s[i].output, "v");
+    EXPECT_DOUBLE_EQ(s[i].sigma, 2e-5);
+    // on the grid: a quarter of the slowest row's rate to twice the fastest's
+    const double rpm = s[i].omega_T * units::kRpmPerRadPerSec;
+    EXPECT_GE(rpm, 30.0 * (1.0 - 1e-9));
+    EXPECT_LE(rpm, 480.0 * (1.0 + 1e-9));
+    EXPECT_GE(s[i].separation, kDecisiveSeparation);
+    if (i > 0) EXPECT_LE(s[i].separation, s[i - 1].separation);
+    // each prediction is that model's own steady speed at that rate, simulated alone
+    SteadyStateTable one = table;
+    one.rows.resize(1);
+    one.rows[0].omega_T = s[i].omega_T;
+    MeasuredData single;
+    single.tables.push_back(one);
+    const Evaluator evaluator(single, trainingOnlySplit(single), options);
+    const Evaluation y = evaluator.evaluate(with_yield, yield_values, Part::kAll);
+    const Evaluation m = evaluator.evaluate(with_motor, motor_values, Part::kAll);
+    ASSERT_TRUE(y.ok && m.ok);
+    EXPECT_NEAR(s[i].reference_value, y.points[0].model, 1e-9 + 1e-6 * std::abs(y.points[0].model));
+    EXPECT_NEAR(s[i].candidate_value, m.points[0].model, 1e-9 + 1e-6 * std::abs(m.points[0].model));
+    EXPECT_NEAR(s[i].separation, std::abs(m.points[0].model - y.points[0].model) / 2e-5, 1e-6);
+  }
+  // a model cannot be told from itself
+  EXPECT_TRUE(separatingMeasurements({"granular_yield", &with_yield, yield_values},
+                                     {"same", &with_yield, yield_values}, data, options)
+                  .empty());
 }
 
 }  // namespace

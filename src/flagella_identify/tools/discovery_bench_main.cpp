@@ -22,11 +22,12 @@ namespace {
 /// nothing is named (and, for unknown, the verdict is an unexplained residual).
 bool correct(const DiscoveryCase& c, const IdentifyResult& r) {
   if (c.unknown) return r.verdict == Verdict::kUnexplained;
-  // "cannot tell", with every hidden effect among the suggested measurements' candidates
+  // "cannot tell", with every hidden effect among the suggested measurements' models
   if (r.verdict == Verdict::kCannotTell && !c.hidden.empty())
     return std::all_of(c.hidden.begin(), c.hidden.end(), [&](const std::string& h) {
-      return std::any_of(r.suggestions.begin(), r.suggestions.end(),
-                         [&](const SuggestedMeasurement& s) { return s.candidate == h; });
+      return std::any_of(
+          r.suggestions.begin(), r.suggestions.end(),
+          [&](const SuggestedMeasurement& s) { return s.candidate == h || s.reference == h; });
     });
   std::vector<std::string> named = r.named, hidden = c.hidden;
   std::sort(named.begin(), named.end());

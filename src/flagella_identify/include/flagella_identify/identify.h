@@ -63,7 +63,9 @@ struct ModelOutcome {
 };
 
 /// kCannotTell: the baseline fits, but these data could not have shown a candidate effect of
-/// realistic strength (power_check.h); the report says which measurement would.
+/// realistic strength (power_check.h); or the baseline misses them and two candidates (or
+/// pairs) explain them equally well (closestRival). The report says which measurement would
+/// decide.
 enum class Verdict { kNoDiscrepancy, kNamedCause, kUnexplained, kCannotTell };
 std::string verdictText(Verdict v);
 
@@ -129,6 +131,9 @@ class Identification {
   /// The power of the data against each steady-state candidate; the verdict "cannot tell"
   /// when one of realistic strength would not have shown but a measurement would show it.
   bool cannotTell(IdentifyResult& result);
+  /// The verdict "cannot tell between" the chosen model and `rival`, with the steady
+  /// measurements that separate them.
+  void cannotTellBetween(IdentifyResult& result, const ModelOutcome& rival);
   /// Fits every identifiable candidate (of the options' list) alone with the baseline;
   /// records skipped ones with the reason.
   void fitCandidates(IdentifyResult& result);
@@ -159,6 +164,13 @@ constexpr double kPairingShare = 0.25;
 
 /// Chi-square critical value at p = 1e-3 for k degrees of freedom (k >= 1).
 double chiSquareCritical(int k);
+
+/// The model the data cannot tell from `chosen` (docs/model.md 7.6): another fitted,
+/// significant outcome of as many effects (result.candidates or result.combinations) that
+/// explains the discrepancy too (kExplainedShare) and whose selection score (held-out chi^2 +
+/// parsimony penalty) exceeds the chosen one's by less than chiSquareCritical(1); the closest
+/// such, or nullptr.
+const ModelOutcome* closestRival(const IdentifyResult& result, const ModelOutcome& chosen);
 
 }  // namespace identify
 }  // namespace flagella

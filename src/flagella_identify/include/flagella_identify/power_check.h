@@ -28,13 +28,17 @@ struct PowerCheck {
   int evaluations = 0;
 };
 
+/// A measurement that would tell the model `candidate` from the model `reference`: the
+/// baseline (the power check), or another candidate that explains the data as well.
 struct SuggestedMeasurement {
-  std::string candidate;
+  std::string candidate;                  ///< "granular_yield", or a pair "a + b"
+  std::string reference = "baseline";     ///< "baseline", or the rival candidate's label
   double omega_T = 0.0;                   ///< [rad/s]
   std::string output;                     ///< v, omega_h, omega_t, omega_yr, R_yr
   std::vector<ConfigOverride> overrides;  ///< the row's config fields (n_tails, ...)
-  double baseline = 0.0, with_effect = 0.0, sigma = 0.0;  ///< predictions and noise (SI)
-  double separation = 0.0;                                ///< |with_effect - baseline| / sigma
+  double reference_value = 0.0, candidate_value = 0.0;  ///< the two predictions (SI)
+  double sigma = 0.0;                                   ///< the data's noise there (SI)
+  double separation = 0.0;  ///< |candidate_value - reference_value| / sigma
 };
 
 /// A suggestion's row configuration as text: "robot.n_tails 2, ..." ("" for none).
@@ -68,6 +72,21 @@ std::vector<SuggestedMeasurement> suggestMeasurements(const Model& baseline,
                                                       const PowerCheck& check,
                                                       const MeasuredData& data,
                                                       const EvaluatorOptions& options);
+
+/// A fitted model and the name it goes by in the suggestions.
+struct LabelledModel {
+  std::string label;
+  const Model* model = nullptr;
+  std::vector<double> values;
+};
+
+/// The steady-state measurements of the same grid that separate `candidate` from `reference`
+/// by at least kDecisiveSeparation, best first, at most kSuggestionsPerCandidate distinct
+/// rates (empty when the data have no table).
+std::vector<SuggestedMeasurement> separatingMeasurements(const LabelledModel& reference,
+                                                         const LabelledModel& candidate,
+                                                         const MeasuredData& data,
+                                                         const EvaluatorOptions& options);
 
 }  // namespace identify
 }  // namespace flagella
