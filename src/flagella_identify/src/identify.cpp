@@ -594,7 +594,7 @@ void Identification::cannotTellBetween(IdentifyResult& result, const ModelOutcom
   result.suggestions =
       separatingMeasurements({chosen.label, &first, first.values()},
                              {rival.label, &second, second.values()}, data_, options_.evaluator);
-  if (!data_.tables.empty()) result.total_evaluations += 2;
+  result.total_evaluations += 2;
   const Diagnosis& d = result.baseline_diagnosis;
   result.verdict = Verdict::kCannotTell;
   result.named.clear();
@@ -612,15 +612,10 @@ void Identification::cannotTellBetween(IdentifyResult& result, const ModelOutcom
           selectionScore(rival) - selectionScore(chosen), chiSquareCritical(1));
   if (!result.suggestions.empty())
     result.summary += decidingSteps(result.suggestions);
-  else if (data_.tables.empty())
-    result.summary +=
-        "No steady measurement is suggested: the data have no steady-state table whose noise "
-        "would rank one; a longer record, other commands or another measured quantity would "
-        "decide.";
   else
     result.summary += formatted(
-        "No steady measurement of the grid (%.0f rates, each configuration and output of the "
-        "table) separates them by %.1f sigma either.",
+        "No steady measurement of the grid (%.0f rates, each configuration and output the data "
+        "measure, with their noise) separates them by %.1f sigma either.",
         kSuggestionRates, kDecisiveSeparation);
   say("verdict: cannot tell between " + chosen.label + " and " + rival.label);
 }

@@ -9,6 +9,7 @@
 #include "flagella_identify/calibration.h"
 #include "flagella_identify/identify.h"
 #include "flagella_identify/model.h"
+#include "series_features.h"
 
 namespace flagella {
 namespace identify {
@@ -46,20 +47,30 @@ std::map<std::string, double> typicalNoise(const SteadyStateTable& table) {
   return out;
 }
 
+/// The data's signed motor rates [rad/s]: the tables' rows, else the series' commands.
+std::vector<double> dataRates(const MeasuredData& data) {
+  std::vector<double> rates;
+  for (const SteadyStateTable& t : data.tables)
+    for (const SteadyStateRow& row : t.rows) rates.push_back(row.omega_T);
+  if (rates.empty())
+    for (const TimeSeries& s : data.series)
+      rates.insert(rates.end(), s.omega_cmd.begin(), s.omega_cmd.end());
+  return rates;
+}
+
 /// The grid of signed rates [rad/s]: a quarter of the lowest |omega_T| to twice the highest,
-/// geometric, with the sign of the fastest row.
+/// geometric, with the sign of the fastest.
 std::vector<double> suggestionRates(const MeasuredData& data) {
   double low = std::numeric_limits<double>::infinity(), high = 0.0, sign = 1.0;
-  for (const SteadyStateTable& t : data.tables)
-    for (const SteadyStateRow& row : t.rows) {
-      const double w = std::abs(row.omega_T);
-      if (!(w > 0.0)) continue;
-      low = std::min(low, w);
-      if (w > high) {
-        high = w;
-        sign = row.omega_T < 0.0 ? -1.0 : 1.0;
-      }
+  for (double omega : dataRates(data)) {
+    const double w = std::abs(omega);
+    if (!(w > 0.0)) continue;
+    low = std::min(low, w);
+    if (w > high) {
+      high = w;
+      sign = omega < 0.0 ? -1.0 : 1.0;
     }
+  }
   std::vector<double> rates;
   if (!(high > 0.0)) return rates;
   const double first = 0.25 * low, last = 2.0 * high;
@@ -68,18 +79,66 @@ std::vector<double> suggestionRates(const MeasuredData& data) {
   return rates;
 }
 
-/// One table per data table: the grid rates x its row configurations, each measuring the
-/// table's steady outputs that have a noise (value 0: only the model side is used).
+/// The longest stretch of constant command in a series [s].
+double longestStretch(const TimeSeries& s) {
+  double longest = 0.0;
+  for (size_t i = 0, j = 0; i < s.t.size(); i = j) {
+    while (j < s.t.size() && s.omega_cmd[j] == s.omega_cmd[i]) ++j;
+    longest = std::max(longest, s.t[j - 1] - s.t[i]);
+  }
+  return longest;
+}
+
+/// docs/model.md 7.6: the steady run a series' instruments would measure, as a table without
+/// rows: as long as the series' longest stretch of constant command, its first quarter to
+/// settle; the speed from two tracked positions a window apart (sigma sqrt(2) sigma_p / T), the
+/// rates from counted turns (sigma 2 pi sqrt(2) sigma_turns / T).
+SteadyStateTable steadyRunOf(const TimeSeries& s) {
+  SteadyStateTable t;
+  t.source = s.source;
+  const double stretch = longestStretch(s);
+  t.settle_time = kFeatureSettleShare * stretch;
+  t.window = stretch - t.settle_time;
+  t.overrides = s.overrides;
+  if (!(t.window > 0.0)) return t;
+  if (!s.position.empty() && s.position_noise > 0.0)
+    t.noise["v"] = std::sqrt(2.0) * s.position_noise / t.window;
+  const double rate_sigma = 2.0 * M_PI * std::sqrt(2.0) * s.turns_noise / t.window;
+  if (!s.head_turns.empty() && s.turns_noise > 0.0) t.noise["omega_h"] = rate_sigma;
+  if (!s.tail_turns.empty() && s.turns_noise > 0.0) t.noise["omega_t"] = rate_sigma;
+  return t;
+}
+
+/// The tables the grid is built on, each with its row configurations: the data's tables, else
+/// one steady run per series.
+std::vector<std::pair<SteadyStateTable, std::vector<std::vector<ConfigOverride>>>> gridTemplates(
+    const MeasuredData& data) {
+  std::vector<std::pair<SteadyStateTable, std::vector<std::vector<ConfigOverride>>>> out;
+  for (const SteadyStateTable& t : data.tables) out.emplace_back(t, rowConfigurations(t));
+  if (out.empty())
+    for (const TimeSeries& s : data.series) {
+      SteadyStateTable t = steadyRunOf(s);
+      SteadyStateRow at_end;  // drift effects: taken after the series
+      at_end.time = s.session_time + (s.t.empty() ? 0.0 : s.t.back());
+      for (const auto& entry : t.noise) at_end.measured[entry.first] = 0.0;
+      t.rows.push_back(at_end);
+      out.emplace_back(t, std::vector<std::vector<ConfigOverride>>{{}});
+    }
+  return out;
+}
+
+/// One table per template: the grid rates x its row configurations, each measuring the
+/// template's steady outputs that have a noise (value 0: only the model side is used).
 MeasuredData suggestionGrid(const MeasuredData& data) {
   MeasuredData grid;
   const std::vector<double> rates = suggestionRates(data);
-  for (const SteadyStateTable& t : data.tables) {
+  for (const auto& [t, configurations] : gridTemplates(data)) {
     SteadyStateTable g = t;
     g.rows.clear();
     double latest = kMissing;  // drift effects: the grid's rows are taken last in the session
     for (const SteadyStateRow& row : t.rows)
       if (std::isfinite(row.time) && !(row.time <= latest)) latest = row.time;
-    for (const std::vector<ConfigOverride>& overrides : rowConfigurations(t))
+    for (const std::vector<ConfigOverride>& overrides : configurations)
       for (double omega : rates) {
         SteadyStateRow row;
         row.omega_T = omega;

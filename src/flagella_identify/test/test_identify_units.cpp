@@ -410,5 +410,48 @@ TEST(CannotTellBetween, SeparatingMeasurementsAreTheTwoModelsPredictions) {
                   .empty());
 }
 
+TEST(CannotTellBetween, WithoutATableTheSeriesInstrumentsMeasureASteadyRun) {
+  // A series only: 8 s at 120 rpm then 12 s at -240 rpm, positions tracked to 0.2 mm and turns
+  // counted to 0.1 turn. The steady run is as long as the longest stretch (12 s; 3 s to settle,
+  // a 9 s window): sigma_v = sqrt(2) 2e-4 / 9, sigma_omega = 2 pi sqrt(2) 0.1 / 9.
+  const std::string config = FLAGELLA_CONFIG_DIR "/identification/granular_design1_coarse.yaml";
+  const YAML::Node baseline = loadConfigTree(config);
+  TimeSeries s;
+  s.position_noise = 2e-4;
+  s.turns_noise = 0.1;
+  s.has_z = true;
+  for (int k = 0; k <= 40; ++k) {
+    s.t.push_back(0.5 * k);
+    s.omega_cmd.push_back(units::rpmToRadPerSec(s.t.back() < 8.0 ? 120.0 : -240.0));
+    s.position.push_back(Vec3::Zero());
+    s.head_turns.push_back(0.0);
+    s.tail_turns.push_back(0.0);
+  }
+  MeasuredData data;
+  data.series.push_back(s);
+  Model with_yield(baseline, config, {}), with_motor(baseline, config, {});
+  with_yield.addCandidate(candidateByName("granular_yield"));
+  with_motor.addCandidate(candidateByName("dc_motor"));
+  EvaluatorOptions options;
+  options.jobs = 1;
+  const std::vector<SuggestedMeasurement> m = separatingMeasurements(
+      {"granular_yield", &with_yield, {6e-4}}, {"dc_motor", &with_motor, {150.0}}, data, options);
+  ASSERT_FALSE(m.empty());
+  const std::map<std::string, double> sigma = {
+      {"v", std::sqrt(2.0) * 2e-4 / 9.0},
+      {"omega_h", 2.0 * M_PI * std::sqrt(2.0) * 0.1 / 9.0},
+      {"omega_t", 2.0 * M_PI * std::sqrt(2.0) * 0.1 / 9.0}};
+  for (const SuggestedMeasurement& x : m) {
+    ASSERT_TRUE(sigma.count(x.output)) << x.output;
+    EXPECT_NEAR(x.sigma, sigma.at(x.output), 1e-12 * sigma.at(x.output)) << x.output;
+    // the series' range, a quarter of its slowest command to twice its fastest, the fastest's
+    // sign
+    const double rpm = x.omega_T * units::kRpmPerRadPerSec;
+    EXPECT_LE(rpm, -30.0 * (1.0 - 1e-9));
+    EXPECT_GE(rpm, -480.0 * (1.0 + 1e-9));
+    EXPECT_GE(x.separation, kDecisiveSeparation);
+  }
+}
+
 }  // namespace
 }  // namespace flagella::identify

@@ -82,7 +82,11 @@ struct LabelledModel {
 
 /// The steady-state measurements of the same grid that separate `candidate` from `reference`
 /// by at least kDecisiveSeparation, best first, at most kSuggestionsPerCandidate distinct
-/// rates (empty when the data have no table).
+/// rates. Without a table the grid is a steady run per series, measured with the series'
+/// instruments (docs/model.md 7.6): as long as its longest stretch of constant command, the
+/// first quarter to settle, the speed from two positions a window T apart (sigma sqrt(2)
+/// sigma_p / T), the turn rates from counted turns (sigma 2 pi sqrt(2) sigma_turns / T), over
+/// the series' command range.
 std::vector<SuggestedMeasurement> separatingMeasurements(const LabelledModel& reference,
                                                          const LabelledModel& candidate,
                                                          const MeasuredData& data,
