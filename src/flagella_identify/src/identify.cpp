@@ -464,7 +464,26 @@ void Identification::tryPairs(IdentifyResult& result, std::optional<ModelOutcome
   // One effect not enough: add a second one to the best and keep it if it is significant. Only
   // a first effect that explains a sizeable share can mask a second one; when the best single
   // effect explains little, a second effect would have shown on its own.
-  const bool pairable = chosen && chosen->noise_z > kSignificanceZ && options_.max_effects >= 2;
+  bool pairable = chosen && chosen->noise_z > kSignificanceZ && options_.max_effects >= 2;
+  // docs/model.md 7.6: a second effect only once the first is fitted at its best: with time
+  // series, the best single effect is fitted again by continuation first
+  if (pairable && chosen->explained >= kPairingShare && options_.continuation &&
+      !data_.series.empty() && !chosen->continuation) {
+    say("the best single effect (" + chosen->label +
+        ") leaves a significant residual: fitted again by continuation before pairing");
+    std::vector<const Candidate*> effects;
+    for (const std::string& name : chosen->effects) effects.push_back(&candidateByName(name));
+    ModelOutcome again = fitByContinuation(effects, result.baseline);
+    result.total_evaluations += again.evaluations;
+    if (again.fitted) judge(again, result.baseline);
+    if (again.fitted && again.significant) {
+      ModelOutcome kept = betterOf(*chosen, std::move(again));
+      for (ModelOutcome& m : result.candidates)
+        if (m.label == kept.label) m = kept;
+      chosen = kept;
+    }
+    pairable = chosen->noise_z > kSignificanceZ;
+  }
   if (pairable && chosen->explained < kPairingShare) {
     say("the best single effect (" + chosen->label +
         formatted(") explains only %.1f %% of the excess (< %.0f %%); no pairs tried",

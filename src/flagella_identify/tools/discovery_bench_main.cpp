@@ -48,6 +48,9 @@ int main(int argc, char** argv) {
   app.add_option("--seeds", seeds, "seeds per case")->capture_default_str();
   app.add_option("--jobs", jobs)->capture_default_str();
   app.add_option("--config", config)->capture_default_str();
+  std::vector<std::string> candidates;
+  app.add_option("--candidates", candidates, "candidate effects (default: the standard list)")
+      ->delimiter(',');
   app.add_flag("--verbose", verbose, "progress of every identification");
   app.add_flag("--without-small-data-methods", before,
                "without cross validation, power check and continuation fits (the pipeline "
@@ -73,6 +76,7 @@ int main(int argc, char** argv) {
         GeneratedCase g = generateCase(c, baseline, config, seed, eo);
         IdentifyOptions o;
         o.free = caseFreeParameters();
+        o.candidates = candidates;
         o.evaluator.jobs = jobs;
         o.cross_validation = o.power_check = o.continuation = !before;
         if (verbose) o.progress = [](const std::string& l) { std::cout << "    " << l << "\n"; };
