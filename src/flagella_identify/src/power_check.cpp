@@ -109,20 +109,18 @@ SteadyStateTable steadyRunOf(const TimeSeries& s) {
   return t;
 }
 
-/// The tables the grid is built on, each with its row configurations: the data's tables, else
-/// one steady run per series.
-std::vector<std::pair<SteadyStateTable, std::vector<std::vector<ConfigOverride>>>> gridTemplates(
-    const MeasuredData& data) {
-  std::vector<std::pair<SteadyStateTable, std::vector<std::vector<ConfigOverride>>>> out;
-  for (const SteadyStateTable& t : data.tables) out.emplace_back(t, rowConfigurations(t));
+/// The tables the grid is built on: the data's tables, else one steady run per series (one row,
+/// taken after the series for drift effects, whose configuration is the series').
+std::vector<SteadyStateTable> gridTemplates(const MeasuredData& data) {
+  std::vector<SteadyStateTable> out = data.tables;
   if (out.empty())
     for (const TimeSeries& s : data.series) {
       SteadyStateTable t = steadyRunOf(s);
-      SteadyStateRow at_end;  // drift effects: taken after the series
+      SteadyStateRow at_end;
       at_end.time = s.session_time + (s.t.empty() ? 0.0 : s.t.back());
       for (const auto& entry : t.noise) at_end.measured[entry.first] = 0.0;
       t.rows.push_back(at_end);
-      out.emplace_back(t, std::vector<std::vector<ConfigOverride>>{{}});
+      out.push_back(t);
     }
   return out;
 }
@@ -132,13 +130,13 @@ std::vector<std::pair<SteadyStateTable, std::vector<std::vector<ConfigOverride>>
 MeasuredData suggestionGrid(const MeasuredData& data) {
   MeasuredData grid;
   const std::vector<double> rates = suggestionRates(data);
-  for (const auto& [t, configurations] : gridTemplates(data)) {
+  for (const SteadyStateTable& t : gridTemplates(data)) {
     SteadyStateTable g = t;
     g.rows.clear();
     double latest = kMissing;  // drift effects: the grid's rows are taken last in the session
     for (const SteadyStateRow& row : t.rows)
       if (std::isfinite(row.time) && !(row.time <= latest)) latest = row.time;
-    for (const std::vector<ConfigOverride>& overrides : configurations)
+    for (const std::vector<ConfigOverride>& overrides : rowConfigurations(t))
       for (double omega : rates) {
         SteadyStateRow row;
         row.omega_T = omega;
