@@ -80,6 +80,11 @@ double printProfile(const std::string& label, const std::string& path,
       " one factorization + solve %.1f us; step / (factorization + solve) = %.2f\n",
       p.updates / n, p.residuals / n, p.jacobians / n, p.factorizations / n, 1e6 * factor_solve,
       factor_solve > 0 ? (wall / n) / factor_solve : 0.0);
+  const double residual_only = p.residuals - p.jacobians;
+  std::printf(
+      "  one evaluation (frames excluded): residual only %.1f us, residual + Jacobian %.1f us\n",
+      residual_only > 0 ? 1e6 * p.residual_evaluations / residual_only : 0.0,
+      p.jacobians ? 1e6 * p.jacobian_evaluations / p.jacobians : 0.0);
   return factor_solve;
 }
 

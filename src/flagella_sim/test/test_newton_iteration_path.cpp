@@ -90,6 +90,11 @@ TEST(NewtonIterationPath, ProfileAccountsForTheStep) {
   EXPECT_EQ(p.updates, run.newton_iterations);
   EXPECT_GE(p.residuals, p.updates + p.steps);  // at least one more evaluation than updates
   EXPECT_GE(p.jacobians, p.factorizations);
+  // The same time cut by evaluation: both kinds happened, and they lie inside the steps' total
+  // together with the frames (which they exclude).
+  EXPECT_GT(p.residual_evaluations, 0.0);
+  EXPECT_GT(p.jacobian_evaluations, 0.0);
+  EXPECT_LE(p.residual_evaluations + p.jacobian_evaluations + p.frames, p.total);
 }
 
 }  // namespace

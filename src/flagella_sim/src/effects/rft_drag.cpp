@@ -38,8 +38,22 @@ void RftDrag::attach(const RodNetwork& net) {
       // docs/model.md 2 [ASSUMED]: the root node (disc rim) gets half the first tail edge
       const double before = i > 0 ? net.rest_lengths[edges[i - 1]] : 0.0;
       const double after = i + 1 < tail.size() ? net.rest_lengths[edges[i]] : 0.0;
-      nodes_.push_back({tail[i], i > 0 ? tail[i - 1] : -1, i + 1 < tail.size() ? tail[i + 1] : -1,
-                        0.5 * (before + after), length, radius});
+      TailNode n;
+      n.node = tail[i];
+      n.voronoi_length = 0.5 * (before + after);
+      n.tail_length = length;
+      n.tail_radius = radius;
+      if (i > 0) {
+        n.prev = tail[i - 1];
+        n.edge_in = edges[i - 1];
+        n.sign_in = net.edges[n.edge_in].end_node == n.node ? 1.0 : -1.0;
+      }
+      if (i + 1 < tail.size()) {
+        n.next = tail[i + 1];
+        n.edge_out = edges[i];
+        n.sign_out = net.edges[n.edge_out].start_node == n.node ? 1.0 : -1.0;
+      }
+      nodes_.push_back(n);
     }
   }
 }
@@ -55,62 +69,74 @@ RftCoefficients RftDrag::coefficients(const TailNode& n, double viscosity) const
 }
 
 void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const {
-  const Mat3 I = Mat3::Identity();
+  // Edge tangents and lengths at ctx.q come with the frames (transported to q).
+  const ReferenceFrames& fr = ctx.frames;
   for (const TailNode& n : nodes_) {
     const Vec3 x = nodePosition(ctx.q, n.node);
     // docs/model.md 2: node tangent s = (t^{j-1} + t^j)/2 normalised; single edge at the ends
     // [CORR-4]
     Vec3 s = Vec3::Zero();
     Vec3 t_in = Vec3::Zero(), t_out = Vec3::Zero();
-    double len_in = 0.0, len_out = 0.0;
+    double inv_len_in = 0.0, inv_len_out = 0.0;
     int edge_count = 0;
     if (n.prev >= 0) {
-      const Vec3 e = x - nodePosition(ctx.q, n.prev);
-      len_in = e.norm();
-      t_in = e / len_in;
+      t_in = n.sign_in * fr.tangent[n.edge_in];
+      inv_len_in = 1.0 / fr.edge_length[n.edge_in];
       s += t_in;
       ++edge_count;
     }
     if (n.next >= 0) {
-      const Vec3 e = nodePosition(ctx.q, n.next) - x;
-      len_out = e.norm();
-      t_out = e / len_out;
+      t_out = n.sign_out * fr.tangent[n.edge_out];
+      inv_len_out = 1.0 / fr.edge_length[n.edge_out];
       s += t_out;
       ++edge_count;
     }
-    s /= edge_count;
-    const double s_norm = s.norm();
-    const Vec3 that = s / s_norm;
+    s *= 1.0 / edge_count;
+    const double inv_s_norm = 1.0 / s.norm();
+    const Vec3 that = s * inv_s_norm;
     const RftCoefficients c = coefficients(n, ctx.viscosity);
     const double height = x.dot(ctx.medium.up);
     const double mu_factor = use_profile_ ? ctx.medium.profile.factor(height) : 1.0;
     const double scale = params_[drag_scale_] * mu_factor;
     const double eta_t = scale * c.eta_t, eta_p = scale * c.eta_p;
+    const double l = n.voronoi_length;
     const Vec3 v = ctx.nodeVelocity(n.node);
-    const Mat3 A = eta_p * I + (eta_t - eta_p) * that * that.transpose();
-    const Vec3 F =
-        -n.voronoi_length * A * v;  // docs/model.md 2: F = -l [eta_p I + (eta_t - eta_p) t t^T] v
+    const double tv = that.dot(v);
+    // docs/model.md 2: F = -l [eta_p I + (eta_t - eta_p) t t^T] v
+    const Vec3 F = -l * (eta_p * v + ((eta_t - eta_p) * tv) * that);
     force.segment<3>(3 * n.node) += F;
     if (!jacobian) continue;
 
-    // Velocity part: dF/dx_j = -(l/dt) A.
-    Mat3 d_self = -(n.voronoi_length / ctx.dt) * A;
+    // Velocity part: dF/dx_j = -(l/dt) [eta_p I + (eta_t - eta_p) t t^T].
+    Mat3 d_self = (-(l / ctx.dt) * (eta_t - eta_p)) * (that * that.transpose());
+    d_self.diagonal().array() -= (l / ctx.dt) * eta_p;
     if (use_profile_ && mu_factor > 0.0) {  // dependence of the local viscosity on height
       const double dfactor = ctx.medium.profile.factorDerivative(height);
       d_self += (F / mu_factor) * (dfactor * ctx.medium.up).transpose();
     }
-    // Geometric part (docs/model.md 2): dF/dthat, dthat/ds, ds/dx.
-    const Mat3 dF_dthat =
-        -n.voronoi_length * (eta_t - eta_p) * (that.dot(v) * I + that * v.transpose());
-    const Mat3 dthat_ds = (I - that * that.transpose()) / s_norm;
-    const Mat3 dF_ds = dF_dthat * dthat_ds;
-    Mat3 ds_dprev = Mat3::Zero(), ds_dnext = Mat3::Zero();
-    if (n.prev >= 0) ds_dprev = -(I - t_in * t_in.transpose()) / (len_in * edge_count);
-    if (n.next >= 0) ds_dnext = (I - t_out * t_out.transpose()) / (len_out * edge_count);
-    d_self += dF_ds * (-(ds_dprev + ds_dnext));
+    // Geometric part (docs/model.md 2): dF/dthat = -l (eta_t - eta_p) ((t.v) I + t v^T) times
+    // dthat/ds = (I - t t^T)/|s|, i.e. dF/ds = -(l (eta_t - eta_p)/|s|) ((t.v)(I - t t^T) + t w^T)
+    // with w = v - (t.v) t; ds/dx of a neighbour is -+(I - t_e t_e^T)/(|e| edges).
+    const Vec3 w = v - tv * that;
+    Mat3 dF_ds = that * (w - tv * that).transpose();
+    dF_ds.diagonal().array() += tv;
+    dF_ds *= -l * (eta_t - eta_p) * inv_s_norm;
+    // dF/ds (I - t_e t_e^T) without forming the projector.
+    auto projected = [&](const Vec3& t_e) -> Mat3 {
+      return dF_ds - (dF_ds * t_e) * t_e.transpose();
+    };
+    if (n.prev >= 0) {
+      const Mat3 d_prev = projected(t_in) * (-inv_len_in / edge_count);
+      d_self -= d_prev;
+      jacobian->addBlock(3 * n.node, 3 * n.prev, d_prev);
+    }
+    Mat3 d_next;
+    if (n.next >= 0) {
+      d_next = projected(t_out) * (inv_len_out / edge_count);
+      d_self -= d_next;
+    }
     jacobian->addBlock(3 * n.node, 3 * n.node, d_self);
-    if (n.prev >= 0) jacobian->addBlock(3 * n.node, 3 * n.prev, dF_ds * ds_dprev);
-    if (n.next >= 0) jacobian->addBlock(3 * n.node, 3 * n.next, dF_ds * ds_dnext);
+    if (n.next >= 0) jacobian->addBlock(3 * n.node, 3 * n.next, d_next);
   }
 }
 

@@ -59,9 +59,10 @@ struct CurvatureFrame {
 CurvatureFrame curvatureFrame(const SpringGeometry& g) {
   CurvatureFrame c;
   c.chi = 1.0 + g.te.dot(g.tf);
-  c.tt = (g.te + g.tf) / c.chi;
-  c.mt1 = (g.m1e + g.m1f) / c.chi;
-  c.mt2 = (g.m2e + g.m2f) / c.chi;
+  const double inv_chi = 1.0 / c.chi;  // one division, then products (also below)
+  c.tt = (g.te + g.tf) * inv_chi;
+  c.mt1 = (g.m1e + g.m1f) * inv_chi;
+  c.mt2 = (g.m2e + g.m2f) * inv_chi;
   c.tf_x_mt1 = g.tf.cross(c.mt1);
   c.tf_x_mt2 = g.tf.cross(c.mt2);
   c.te_x_mt1 = g.te.cross(c.mt1);
@@ -76,17 +77,17 @@ struct CurvatureGradients {
 // docs/model.md 1.5: gradients of kappa1, kappa2 and tau in edge space.
 CurvatureGradients curvatureGradients(const SpringGeometry& g, const CurvatureFrame& c) {
   CurvatureGradients d;
-  const double le = g.len_e, lf = g.len_f;
-  d.kappa1.segment<3>(0) = (-g.kappa1 * c.tt + c.tf_x_mt2) / le;
-  d.kappa1.segment<3>(3) = (-g.kappa1 * c.tt - c.te_x_mt2) / lf;
+  const double inv_le = 1.0 / g.len_e, inv_lf = 1.0 / g.len_f;
+  d.kappa1.segment<3>(0) = (-g.kappa1 * c.tt + c.tf_x_mt2) * inv_le;
+  d.kappa1.segment<3>(3) = (-g.kappa1 * c.tt - c.te_x_mt2) * inv_lf;
   d.kappa1(6) = -0.5 * g.kb.dot(g.m1e);
   d.kappa1(7) = -0.5 * g.kb.dot(g.m1f);
-  d.kappa2.segment<3>(0) = (-g.kappa2 * c.tt - c.tf_x_mt1) / le;
-  d.kappa2.segment<3>(3) = (-g.kappa2 * c.tt + c.te_x_mt1) / lf;
+  d.kappa2.segment<3>(0) = (-g.kappa2 * c.tt - c.tf_x_mt1) * inv_le;
+  d.kappa2.segment<3>(3) = (-g.kappa2 * c.tt + c.te_x_mt1) * inv_lf;
   d.kappa2(6) = -0.5 * g.kb.dot(g.m2e);
   d.kappa2(7) = -0.5 * g.kb.dot(g.m2f);
-  d.tau.segment<3>(0) = g.kb / (2.0 * le);
-  d.tau.segment<3>(3) = g.kb / (2.0 * lf);
+  d.tau.segment<3>(0) = g.kb * (0.5 * inv_le);
+  d.tau.segment<3>(3) = g.kb * (0.5 * inv_lf);
   d.tau(6) = -1.0;
   d.tau(7) = 1.0;
   return d;
@@ -105,7 +106,7 @@ CurvatureGradients curvatureGradients(const SpringGeometry& g, const CurvatureFr
 //   lf, H_EE = kb.(w2 m1e - w1 m2e) / 2, H_FF = kb.(w2 m1f - w1 m2f) / 2.
 EdgeMatrix weightedCurvatureHessian(const SpringGeometry& g, const CurvatureFrame& c, double w1,
                                     double w2, double wt) {
-  const double le = g.len_e, lf = g.len_f, chi = c.chi;
+  const double inv_le = 1.0 / g.len_e, inv_lf = 1.0 / g.len_f, inv_chi = 1.0 / c.chi;
   const double K = w1 * g.kappa1 + w2 * g.kappa2;
   const Mat3 I = Mat3::Identity();
   const Mat3 tt_tt = (2.0 * K) * (c.tt * c.tt.transpose());
@@ -113,23 +114,25 @@ EdgeMatrix weightedCurvatureHessian(const SpringGeometry& g, const CurvatureFram
   const Vec3 v_f = w1 * c.te_x_mt2 - w2 * c.te_x_mt1;
   const Vec3 u_e = 0.25 * (w1 * g.m2e - w2 * g.m1e - wt * (g.te + c.tt));
   const Vec3 u_f = 0.25 * (w1 * g.m2f - w2 * g.m1f - wt * (g.tf + c.tt));
-  const double k_chi = K / chi;
+  const double k_chi = K * inv_chi;
   EdgeMatrix h;
   h.block<3, 3>(0, 0) =
-      (tt_tt + sym(v_e, c.tt) - k_chi * (I - g.te * g.te.transpose()) + sym(g.kb, u_e)) / (le * le);
+      (tt_tt + sym(v_e, c.tt) - k_chi * (I - g.te * g.te.transpose()) + sym(g.kb, u_e)) *
+      (inv_le * inv_le);
   h.block<3, 3>(3, 3) =
-      (tt_tt + sym(v_f, c.tt) - k_chi * (I - g.tf * g.tf.transpose()) + sym(g.kb, u_f)) / (lf * lf);
+      (tt_tt + sym(v_f, c.tt) - k_chi * (I - g.tf * g.tf.transpose()) + sym(g.kb, u_f)) *
+      (inv_lf * inv_lf);
   const Mat3 ef = (-k_chi * (I + g.te * g.tf.transpose()) + tt_tt + v_e * c.tt.transpose() +
-                   c.tt * v_f.transpose() + skew(w2 * c.mt1 - w1 * c.mt2 + (wt / chi) * g.te) -
-                   (0.5 * wt) * g.kb * c.tt.transpose()) /
-                  (le * lf);
+                   c.tt * v_f.transpose() + skew(w2 * c.mt1 - w1 * c.mt2 + (wt * inv_chi) * g.te) -
+                   (0.5 * wt) * g.kb * c.tt.transpose()) *
+                  (inv_le * inv_lf);
   h.block<3, 3>(0, 3) = ef;
   h.block<3, 3>(3, 0) = ef.transpose();
   const Vec3 n[2] = {w1 * g.m1e + w2 * g.m2e, w1 * g.m1f + w2 * g.m2f};
   for (int k = 0; k < 2; ++k) {
     const double along = 0.5 * g.kb.dot(n[k]);
-    const Vec3 col_e = (along * c.tt - g.tf.cross(n[k]) / chi) / le;
-    const Vec3 col_f = (along * c.tt + g.te.cross(n[k]) / chi) / lf;
+    const Vec3 col_e = (along * c.tt - g.tf.cross(n[k]) * inv_chi) * inv_le;
+    const Vec3 col_f = (along * c.tt + g.te.cross(n[k]) * inv_chi) * inv_lf;
     h.block<3, 1>(0, 6 + k) = col_e;
     h.block<3, 1>(3, 6 + k) = col_f;
     h.block<1, 3>(6 + k, 0) = col_e.transpose();
@@ -208,13 +211,20 @@ void addBendTwistGradientHessian(const RodNetwork& net, const VecX& q,
   for (size_t i = 0; i < net.bend_twist_springs.size(); ++i) {
     const BendTwistSpring& s =
         static_cast<int>(i) == twist.spring ? driven : net.bend_twist_springs[i];
-    const SpringEnergyTerms terms = bendTwistTerms(
+    SpringEnergyTerms terms = bendTwistTerms(
         springGeometry(net, s, q, frames, material, static_cast<int>(i)), s, hessian);
     const SpringDofMap map = springDofMap(net, s);
-    // docs/model.md 1.6: dE/dtheta^g = s_g dE/dtheta_loc; mixed entries carry both signs
-    for (int a = 0; a < 11; ++a) gradient(map.index[a]) += map.sign[a] * terms.gradient(a);
+    // docs/model.md 1.6: dE/dtheta^g = s_g dE/dtheta_loc; mixed entries carry both signs (only
+    // the two twist DOFs have a sign)
+    for (int a = 9; a < 11; ++a) {
+      terms.gradient(a) *= map.sign[a];
+      if (!hessian) continue;
+      terms.hessian.row(a) *= map.sign[a];
+      terms.hessian.col(a) *= map.sign[a];
+    }
+    for (int a = 0; a < 11; ++a) gradient(map.index[a]) += terms.gradient(a);
     if (!hessian) continue;
-    hessian->addDense<11>(map.index, map.sign, terms.hessian);
+    hessian->addDense<11>(map.index, terms.hessian);
   }
 }
 

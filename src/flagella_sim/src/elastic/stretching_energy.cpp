@@ -19,16 +19,18 @@ void addStretchingGradientHessian(const RodNetwork& net, const VecX& q, VecX& gr
     const EdgeDef& e = net.edges[s.edge];
     const Vec3 edge = nodePosition(q, e.end_node) - nodePosition(q, e.start_node);
     const double len = edge.norm();
-    const Vec3 t = edge / len;
+    const double inv_len = 1.0 / len, inv_rest = 1.0 / s.rest_length;
+    const Vec3 t = edge * inv_len;
     // docs/model.md 1.5: dE/dx_b = EA (l/lbar - 1) t = -dE/dx_a
-    const Vec3 g = s.EA * (len / s.rest_length - 1.0) * t;
+    // (a true division: the strain of a stiff edge is a small difference, one rounding only)
+    const Vec3 g = (s.EA * (len / s.rest_length - 1.0)) * t;
     const int a = 3 * e.start_node, b = 3 * e.end_node;
     gradient.segment<3>(a) -= g;
     gradient.segment<3>(b) += g;
     if (!hessian) continue;
     // docs/model.md 1.5: K = EA [ (1/lbar - 1/l) I + (1/l) t t^T ]
-    const Mat3 K = s.EA * ((1.0 / s.rest_length - 1.0 / len) * Mat3::Identity() +
-                           (1.0 / len) * t * t.transpose());
+    Mat3 K = (s.EA * inv_len) * (t * t.transpose());
+    K.diagonal().array() += s.EA * (inv_rest - inv_len);
     hessian->addBlock(a, a, K);
     hessian->addBlock(a, b, -K);
     hessian->addBlock(b, a, -K);

@@ -17,9 +17,15 @@ Vec3 edgeVector(const RodNetwork& net, const VecX& q, int edge) {
   return nodePosition(q, e.end_node) - nodePosition(q, e.start_node);
 }
 
-void unitTangents(const RodNetwork& net, const VecX& q, std::vector<Vec3>& t) {
-  t.resize(net.numEdges());
-  for (int j = 0; j < net.numEdges(); ++j) t[j] = edgeVector(net, q, j).normalized();
+// Unit tangents and lengths of every edge (stored orientation).
+void unitTangents(const RodNetwork& net, const VecX& q, ReferenceFrames& fr) {
+  fr.tangent.resize(net.numEdges());
+  fr.edge_length.resize(net.numEdges());
+  for (int j = 0; j < net.numEdges(); ++j) {
+    const Vec3 e = edgeVector(net, q, j);
+    fr.edge_length[j] = e.norm();
+    fr.tangent[j] = e * (1.0 / fr.edge_length[j]);
+  }
 }
 
 // Material directors of one edge (stored orientation, docs/model.md 1.2):
@@ -49,7 +55,7 @@ double directReferenceTwist(const BendTwistSpring& s, const ReferenceFrames& fr)
 ReferenceFrames initialFrames(const RodNetwork& net, const VecX& q, int root_edge) {
   const int ne = net.numEdges();
   ReferenceFrames fr;
-  unitTangents(net, q, fr.tangent);
+  unitTangents(net, q, fr);
   fr.d1.assign(ne, Vec3::Zero());
   fr.d2.assign(ne, Vec3::Zero());
 
@@ -104,13 +110,13 @@ ReferenceFrames transportFrames(const RodNetwork& net, const VecX& q,
 void transportFrames(const RodNetwork& net, const VecX& q, const ReferenceFrames& previous,
                      ReferenceFrames& fr) {
   const int ne = net.numEdges();
-  unitTangents(net, q, fr.tangent);
+  unitTangents(net, q, fr);
   fr.d1.resize(ne);
   fr.d2.resize(ne);
   for (int j = 0; j < ne; ++j) {
     // docs/model.md 1.7: d1(iterate) = P_{t(t_k) -> t(iterate)} d1(t_k), d2 = t x d1
     const Vec3 d1 = parallelTransport(previous.d1[j], previous.tangent[j], fr.tangent[j]);
-    fr.d1[j] = (d1 - d1.dot(fr.tangent[j]) * fr.tangent[j]).normalized();
+    fr.d1[j] = unitVector(d1 - d1.dot(fr.tangent[j]) * fr.tangent[j]);
     fr.d2[j] = fr.tangent[j].cross(fr.d1[j]);
   }
   fr.reference_twist.resize(net.bend_twist_springs.size());
@@ -124,7 +130,10 @@ void transportFrames(const RodNetwork& net, const VecX& q, const ReferenceFrames
     // d1_F), i.e. old + the angle from P(d1_E) to d1_F minus old, wrapped to (-pi, pi]
     const double old_twist = previous.reference_twist[s];
     const double change = angleAbout(parallelTransport(d1e, te, tf), d1f, tf) - old_twist;
-    fr.reference_twist[s] = old_twist + (change - kTwoPi * std::round(change / kTwoPi));
+    // (std::round is a library call: skipped in the usual case, |change| < pi, where it is 0)
+    const double wrapped =
+        std::abs(change) < 0.5 * kTwoPi ? change : change - kTwoPi * std::round(change / kTwoPi);
+    fr.reference_twist[s] = old_twist + wrapped;
   }
 }
 
@@ -146,23 +155,20 @@ namespace {
 SpringGeometry springGeometryWith(const RodNetwork& net, const BendTwistSpring& sp, const VecX& q,
                                   const ReferenceFrames& fr, int spring_index, const Vec3& m1e,
                                   const Vec3& m2e, const Vec3& m1f, const Vec3& m2f) {
+  // The edges' tangents and lengths at q come with the frames (transported to q): the local
+  // tangent is the stored one times the orientation sign (docs/model.md 1.6).
   SpringGeometry g;
-  const Vec3 xp = nodePosition(q, sp.node_p);
-  const Vec3 xc = nodePosition(q, sp.node_c);
-  const Vec3 xq = nodePosition(q, sp.node_q);
-  g.e = xc - xp;
-  g.f = xq - xc;
-  g.len_e = g.e.norm();
-  g.len_f = g.f.norm();
-  g.te = g.e / g.len_e;
-  g.tf = g.f / g.len_f;
+  g.len_e = fr.edge_length[sp.edge_e];
+  g.len_f = fr.edge_length[sp.edge_f];
+  g.te = sp.sign_e * fr.tangent[sp.edge_e];
+  g.tf = sp.sign_f * fr.tangent[sp.edge_f];
   g.m1e = m1e;
   g.m2e = m2e;
   g.m1f = m1f;
   g.m2f = m2f;
   // docs/model.md 1.3: kb = 2 (t_e x t_f) / (1 + t_e.t_f), kappa1 = 1/2 (m2e+m2f).kb, kappa2 = -1/2
   // (m1e+m1f).kb
-  g.kb = 2.0 * g.te.cross(g.tf) / (1.0 + g.te.dot(g.tf));
+  g.kb = g.te.cross(g.tf) * (2.0 / (1.0 + g.te.dot(g.tf)));
   g.kappa1 = 0.5 * (g.m2e + g.m2f).dot(g.kb);
   g.kappa2 = -0.5 * (g.m1e + g.m1f).dot(g.kb);
   const double theta_e = sp.sign_e * q(net.thetaIndex(sp.edge_e));

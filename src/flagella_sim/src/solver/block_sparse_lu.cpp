@@ -35,6 +35,7 @@ bool invertBlock(const BlockSparseLu::Block& D, unsigned padding, BlockSparseLu:
                  double& smallest, double& largest) {
   BlockSparseLu::Block lu = D;
   int row_of[4] = {0, 1, 2, 3};  // lu's row k holds D's row row_of[k]
+  double inverse_pivot[4];
   for (int k = 0; k < 4; ++k) {
     int p = k;
     for (int i = k + 1; i < 4; ++i)
@@ -45,11 +46,12 @@ bool invertBlock(const BlockSparseLu::Block& D, unsigned padding, BlockSparseLu:
     }
     const double pivot = lu(k, k);
     if (pivot == 0.0) return false;
+    inverse_pivot[k] = 1.0 / pivot;     // divisions once per pivot, products below
     if (padding & (1u << k)) continue;  // nothing below a padding pivot to eliminate
     smallest = std::min(smallest, std::abs(pivot));
     largest = std::max(largest, std::abs(pivot));
     for (int i = k + 1; i < 4; ++i) {
-      lu(i, k) /= pivot;
+      lu(i, k) *= inverse_pivot[k];
       for (int j = k + 1; j < 4; ++j) lu(i, j) -= lu(i, k) * lu(k, j);
     }
   }
@@ -61,7 +63,7 @@ bool invertBlock(const BlockSparseLu::Block& D, unsigned padding, BlockSparseLu:
     }
     for (int i = 3; i >= 0; --i) {
       for (int j = i + 1; j < 4; ++j) x[i] -= lu(i, j) * x[j];
-      x[i] /= lu(i, i);
+      x[i] *= inverse_pivot[i];
     }
     for (int i = 0; i < 4; ++i) inverse(i, c) = x[i];
   }
@@ -144,23 +146,31 @@ void BlockSparseLu::analyze(const SparseMatrix& A, const std::vector<DofGroup>& 
   update_begin_[nb] = static_cast<int>(updates_.size());
 
   // Every stored entry is one value of A (each at its own place), a padding DOF's unit diagonal
-  // or zero before elimination: a factorisation gathers each from A's values followed by 0, 1.
+  // or zero before elimination: a factorisation scatters A's values and rewrites the constants.
   nonzeros_ = static_cast<int>(A.nonZeros());
-  source_.assign(16 * static_cast<size_t>(slots.size()), nonzeros_);  // 0.0
+  const size_t entries = 16 * static_cast<size_t>(slots.size());
+  std::vector<char> from_matrix(entries, 0);
+  value_offset_.assign(nonzeros_, 0);
   int n = 0;
   for (int col = 0; col < A.outerSize(); ++col)
-    for (SparseMatrix::InnerIterator it(A, col); it; ++it, ++n)
-      source_[16 * slots.at(block_of[it.row()], block_of[col]) + 4 * slot_of[col] +
-              slot_of[it.row()]] = n;  // Eigen blocks are column-major
+    for (SparseMatrix::InnerIterator it(A, col); it; ++it, ++n) {
+      const int offset = 16 * slots.at(block_of[it.row()], block_of[col]) + 4 * slot_of[col] +
+                         slot_of[it.row()];  // Eigen blocks are column-major
+      value_offset_[n] = offset;
+      from_matrix[offset] = 1;
+    }
   padding_.assign(nb, 0u);
+  unit_offsets_.clear();
   for (int b = 0; b < nb; ++b)
     for (int s = 0; s < 4; ++s)
       if (groups[b][s] < 0) {
-        source_[16 * diagonal_[b] + 5 * s] = nonzeros_ + 1;  // 1.0
+        unit_offsets_.push_back(16 * diagonal_[b] + 5 * s);
+        from_matrix[unit_offsets_.back()] = 1;
         padding_[b] |= 1u << s;
       }
-  values_.assign(nonzeros_ + 2, 0.0);
-  values_[nonzeros_ + 1] = 1.0;
+  zero_offsets_.clear();
+  for (size_t offset = 0; offset < entries; ++offset)
+    if (!from_matrix[offset]) zero_offsets_.push_back(static_cast<int>(offset));
   blocks_.assign(slots.size(), Block::Zero());
   inverse_diagonal_.assign(nb, Block::Zero());
   work_.assign(nb, Eigen::Vector4d::Zero());
@@ -169,10 +179,11 @@ void BlockSparseLu::analyze(const SparseMatrix& A, const std::vector<DofGroup>& 
 bool BlockSparseLu::factorize(const SparseMatrix& A, double min_pivot_ratio) {
   if (A.nonZeros() != nonzeros_)
     throw std::logic_error("BlockSparseLu::factorize: pattern differs from the analysed one");
-  std::copy(A.valuePtr(), A.valuePtr() + nonzeros_, values_.begin());
   double* storage = blocks_.empty() ? nullptr : blocks_[0].data();
-  for (size_t offset = 0; offset < source_.size(); ++offset)
-    storage[offset] = values_[source_[offset]];
+  const double* values = A.valuePtr();
+  for (int n = 0; n < nonzeros_; ++n) storage[value_offset_[n]] = values[n];
+  for (int offset : zero_offsets_) storage[offset] = 0.0;
+  for (int offset : unit_offsets_) storage[offset] = 1.0;
   double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
   const int nb = numBlocks();
   for (int k = 0; k < nb; ++k) {

@@ -122,6 +122,8 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
     ++profile_->residuals;
     profile_->jacobians += with_jacobian;
   }
+  ProfileScope whole(profile_, with_jacobian ? &StepProfile::jacobian_evaluations
+                                             : &StepProfile::residual_evaluations);
   const VecX& q0 = start.q;
   const VecX& v0 = start.qdot;
   SparseAssembler* hessian = with_jacobian ? &assembler_ : nullptr;
@@ -270,7 +272,14 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
     last_update_chord = chord;
     VecX dq = solveJacobian(residual_);
     if (!dq.allFinite()) return attempt;
-    if (damped) {
+    bool round_off;
+    {
+      ProfileScope timer(profile_, &StepProfile::convergence);
+      round_off = stepNorm(dq) < options_.step_tolerance &&
+                  attempt.residual < kStagnationResidualFactor * options_.residual_tolerance;
+    }
+    // A round-off-level update needs no line search: the residual cannot descend further.
+    if (damped && !round_off) {
       double length = 1.0;
       for (int k = 0;; ++k) {
         const VecX trial = q - length * dq;
@@ -284,12 +293,6 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
     }
     if (last_update_chord) previous_iterate_ = q;
     q -= dq;
-    bool round_off;
-    {
-      ProfileScope timer(profile_, &StepProfile::convergence);
-      round_off = stepNorm(dq) < options_.step_tolerance &&
-                  attempt.residual < kStagnationResidualFactor * options_.residual_tolerance;
-    }
     if (round_off) {
       // Round-off-level update with a nearly converged residual: accept (NewtonOptions).
       transportInto(q, state.frames, frames);

@@ -27,21 +27,21 @@ class SparseAssembler {
     }
     addSlow(row, col, value);
   }
-  /// Adds the n x n matrix sign[a] sign[b] m(a, b) at rows/cols idx (m column-major). Fast path:
-  /// one slot lookup per entry, pattern verified at the block's first and last entry.
+  /// Adds the n x n matrix m at rows/cols idx (m column-major). Fast path: one slot lookup per
+  /// entry, pattern verified at the block's first and last entry.
   template <int N>
-  void addDense(const int* idx, const double* sign, const Eigen::Matrix<double, N, N>& m) {
+  void addDense(const int* idx, const Eigen::Matrix<double, N, N>& m) {
     const size_t end = cursor_ + N * N;
     if (!recording_ && end <= rows_.size() && rows_[cursor_] == idx[0] &&
         cols_[cursor_] == idx[0] && rows_[end - 1] == idx[N - 1] && cols_[end - 1] == idx[N - 1]) {
       const int* slot = slot_.data() + cursor_;
-      for (int b = 0; b < N; ++b)
-        for (int a = 0; a < N; ++a) values_ptr_[*slot++] += sign[a] * sign[b] * m(a, b);
+      const double* value = m.data();
+      for (int k = 0; k < N * N; ++k) values_ptr_[slot[k]] += value[k];
       cursor_ = end;
       return;
     }
     for (int b = 0; b < N; ++b)
-      for (int a = 0; a < N; ++a) add(idx[a], idx[b], sign[a] * sign[b] * m(a, b));
+      for (int a = 0; a < N; ++a) add(idx[a], idx[b], m(a, b));
   }
   /// Adds a dense 3x3 block at (row, col); same fast path as addDense.
   void addBlock(int row, int col, const Mat3& block) {

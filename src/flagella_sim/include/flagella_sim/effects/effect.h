@@ -19,7 +19,7 @@ namespace flagella {
 struct EffectContext {
   const RodNetwork& net;
   const VecX& q;                  ///< current iterate of q(t_{k+1})
-  const ReferenceFrames& frames;  ///< frames at q
+  const ReferenceFrames& frames;  ///< frames at q (their tangents and edge lengths are q's)
   const VecX& q_start;            ///< q(t_k)
   const VecX& qdot_start;         ///< qdot(t_k)
   double dt = 0.0;

@@ -25,12 +25,14 @@ class RftDrag : public Effect {
 
  private:
   struct TailNode {
-    int node;
-    int prev;  ///< previous node along the tail, -1 at the root
-    int next;  ///< next node along the tail, -1 at the tip
-    double voronoi_length;
-    double tail_length;
-    double tail_radius;
+    int node = -1;
+    int prev = -1;                         ///< previous node along the tail, -1 at the root
+    int next = -1;                         ///< next node along the tail, -1 at the tip
+    int edge_in = -1, edge_out = -1;       ///< edges prev-node and node-next (-1 if none)
+    double sign_in = 1.0, sign_out = 1.0;  ///< +1 when that edge is stored in that direction
+    double voronoi_length = 0.0;
+    double tail_length = 0.0;
+    double tail_radius = 0.0;
   };
   /// Drag coefficients of a tail at the medium's viscosity (cached: the log is not free).
   RftCoefficients coefficients(const TailNode& n, double viscosity) const;

@@ -24,8 +24,7 @@ void transportFrames(const RodNetwork& net, const VecX& q, const ReferenceFrames
 
 /// Local-representation quantities of one bending-twisting spring (docs/model.md 1.3, 1.6).
 struct SpringGeometry {
-  Vec3 e, f;                ///< local edge vectors (x_c - x_p, x_q - x_c)
-  double len_e, len_f;      ///< |e|, |f|
+  double len_e, len_f;      ///< lengths of the local edges e = x_c - x_p, f = x_q - x_c
   Vec3 te, tf;              ///< local unit tangents
   Vec3 m1e, m2e, m1f, m2f;  ///< local material directors
   Vec3 kb;                  ///< curvature binormal
@@ -42,6 +41,8 @@ void materialFrames(const RodNetwork& net, const VecX& q, const ReferenceFrames&
                     MaterialFrames& out);
 
 /// Evaluates one spring's local geometry from q, the reference frames and its ref. twist.
+/// `frames` must be those of q (initialFrames or transportFrames of this q): their tangents and
+/// edge lengths are used.
 SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& spring, const VecX& q,
                               const ReferenceFrames& frames, int spring_index);
 /// The same with the edges' material directors already computed (one cos/sin per edge instead of

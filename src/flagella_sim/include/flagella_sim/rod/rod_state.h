@@ -10,6 +10,7 @@ namespace flagella {
 /// Reference frame of each edge plus the per-spring reference twist history.
 struct ReferenceFrames {
   std::vector<Vec3> tangent;            ///< t^j, unit, stored orientation
+  std::vector<double> edge_length;      ///< |x_end - x_start| of edge j (the q of the tangents)
   std::vector<Vec3> d1;                 ///< reference director d1^j, perpendicular to t^j
   std::vector<Vec3> d2;                 ///< d2^j = t^j x d1^j
   std::vector<double> reference_twist;  ///< m_ref per bending-twisting spring (local rep.)

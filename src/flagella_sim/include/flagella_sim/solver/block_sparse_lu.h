@@ -48,8 +48,9 @@ class BlockSparseLu {
   std::vector<std::array<int, 2>> upper_;  // (column block j, storage index of U_kj)
   std::vector<int> update_begin_;          // per step k: range in updates_
   std::vector<Update> updates_;
-  std::vector<int> source_;     // per stored entry (block * 16 + entry): its index in values_
-  std::vector<double> values_;  // A's values, then 0 and 1
+  std::vector<int> value_offset_;  // per value of A: its stored entry (block * 16 + entry)
+  std::vector<int> zero_offsets_;  // stored entries that start at 0 (fill and unused slots)
+  std::vector<int> unit_offsets_;  // the padding DOFs' unit diagonals
   int nonzeros_ = 0;
   std::vector<unsigned> padding_;  // per block: bit s set if slot s is padding
   std::vector<Block> blocks_;

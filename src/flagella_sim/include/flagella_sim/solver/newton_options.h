@@ -10,7 +10,8 @@ struct NewtonOptions {
   /// about 1e-5 relative, while Newton needs about half the iterations of 1e-6.
   double residual_tolerance = 1e-4;
   /// Also converged when the Newton update is this small relative to the length scale (rows
-  /// already at round-off level) and the residual is within 1e3 x tolerance.
+  /// already at round-off level) and the residual is within 1e3 x tolerance; in the damped
+  /// retry too, where such an update is taken whole (no line search below the round-off floor).
   double step_tolerance = 1e-12;
   int max_iterations = 25;
   /// A step whose plain Newton iteration fails is first retried at the same dt with a

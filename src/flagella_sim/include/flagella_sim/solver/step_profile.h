@@ -16,6 +16,10 @@ struct StepProfile {
   double solve = 0.0;          ///< triangular solves
   double convergence = 0.0;    ///< residual norms, update norms, finiteness checks
   double total = 0.0;          ///< whole steps (the rest: state copies, motor, bookkeeping)
+  // The same time cut another way (overlapping the parts above): whole evaluations of the Newton
+  // residual, without and with its Jacobian (frames transport excluded).
+  double residual_evaluations = 0.0;
+  double jacobian_evaluations = 0.0;
   // Counts.
   long steps = 0;
   long updates = 0;    ///< Newton updates (solves)
