@@ -19,7 +19,7 @@ void addStretchingGradientHessian(const RodNetwork& net, const VecX& q, VecX& gr
     const EdgeDef& e = net.edges[s.edge];
     const Vec3 edge = nodePosition(q, e.end_node) - nodePosition(q, e.start_node);
     const double len = edge.norm();
-    const double inv_len = 1.0 / len, inv_rest = 1.0 / s.rest_length;
+    const double inv_len = 1.0 / len;
     const Vec3 t = edge * inv_len;
     // docs/model.md 1.5: dE/dx_b = EA (l/lbar - 1) t = -dE/dx_a
     // (a true division: the strain of a stiff edge is a small difference, one rounding only)
@@ -30,7 +30,7 @@ void addStretchingGradientHessian(const RodNetwork& net, const VecX& q, VecX& gr
     if (!hessian) continue;
     // docs/model.md 1.5: K = EA [ (1/lbar - 1/l) I + (1/l) t t^T ]
     Mat3 K = (s.EA * inv_len) * (t * t.transpose());
-    K.diagonal().array() += s.EA * (inv_rest - inv_len);
+    K.diagonal().array() += s.EA * (1.0 / s.rest_length - inv_len);
     hessian->addBlock(a, a, K);
     hessian->addBlock(a, b, -K);
     hessian->addBlock(b, a, -K);
