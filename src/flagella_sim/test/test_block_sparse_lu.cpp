@@ -5,10 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "flagella_sim/core/sparse_assembler.h"
+#include "flagella_sim/effects/effect_registry.h"
+#include "flagella_sim/robots/multi_tail_robot.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
 #include "flagella_sim/solver/block_sparse_lu.h"
@@ -209,6 +213,155 @@ TEST(BlockSparseLu, NodeEdgeBlocksCoverEveryDofOnce) {
         if (dof >= 0) ++seen.at(dof);
     for (int dof = 0; dof < net.ndof(); ++dof) EXPECT_EQ(seen[dof], 1) << "DOF " << dof;
   }
+}
+
+// One pass of a robot's Jacobian-shaped contributions with random values (the stepper's calls:
+// entries one by one, 3x3 blocks, 11x11 spring blocks), the same sequence for every seed.
+void assembleRandom(SparseAssembler& a, const RodNetwork& net, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  a.begin();
+  for (int i = 0; i < net.ndof(); ++i) a.add(i, i, 10.0 + value(rng));
+  for (const StretchSpring& s : net.stretch_springs) {
+    const int p = RodNetwork::positionIndex(net.edges[s.edge].start_node);
+    const int q = RodNetwork::positionIndex(net.edges[s.edge].end_node);
+    for (int row : {p, q})
+      for (int col : {p, q}) a.addBlock(row, col, Mat3::NullaryExpr([&] { return value(rng); }));
+  }
+  for (const BendTwistSpring& s : net.bend_twist_springs) {
+    const SpringDofMap map = springDofMap(net, s);
+    a.addDense<11>(map.index, SpringMatrix::NullaryExpr([&] { return value(rng); }));
+  }
+  for (int i = 0; i + 1 < net.ndof(); i += 7) a.add(i + 1, i, value(rng));  // single entries
+}
+
+// Assembly in place: a pass redirected into the block LU's storage factors to the same LU as
+// the assembled matrix copied in (bit for bit: the same sums in the same order); a redirected
+// pass whose contributions differ returns to the matrix with every value in it.
+TEST(BlockSparseLu, AssemblyInPlaceMatchesTheCopiedMatrix) {
+  Simulation sim(loadSimulationConfig(shippedConfig("granular_design1.yaml"), {"robot.n_tails=3"}));
+  const RodNetwork& net = sim.stepper().network();
+  SparseAssembler a(net.ndof());
+  assembleRandom(a, net, 1);
+  BlockSparseLu lu;
+  lu.analyze(a.finish(), nodeEdgeBlocks(net));
+  assembleRandom(a, net, 2);
+  const SparseMatrix copied = a.finish();
+  EXPECT_FALSE(a.patternChanged());
+  ASSERT_TRUE(lu.factorize(copied, 1e-13));
+  const VecX b = randomVector(net.ndof(), 7);
+  const VecX x_copied = lu.solve(b);
+  EXPECT_LT(relativeResidual(copied, x_copied, b), kRelativeResidualTol);
+
+  a.redirect(lu.storage(), lu.storageSize(), lu.valueOffsets());
+  lu.clearStorage();
+  assembleRandom(a, net, 2);
+  a.finish();
+  EXPECT_FALSE(a.patternChanged());
+  EXPECT_TRUE(a.redirected());
+  ASSERT_TRUE(lu.factorizeInPlace(1e-13));
+  EXPECT_EQ((lu.solve(b) - x_copied).cwiseAbs().maxCoeff(), 0.0);
+
+  // One contribution more, at an entry outside the pattern, in the middle of a redirected pass.
+  lu.clearStorage();
+  SparseAssembler fresh(net.ndof());
+  for (SparseAssembler* target : {&a, &fresh}) {
+    assembleRandom(*target, net, 3);
+    target->add(0, net.ndof() - 1, 0.5);
+  }
+  const SparseMatrix& changed = a.finish();
+  EXPECT_TRUE(a.patternChanged());
+  EXPECT_FALSE(a.redirected());
+  EXPECT_EQ(SparseMatrix(changed - fresh.finish()).norm(), 0.0);
+}
+
+// The block LU refuses a Jacobian assembled in its storage: JacobianSolver reports it, and the
+// same values assembled as a matrix are factored by KLU alone.
+TEST(BlockSparseLu, RefusalInPlaceLeavesTheMatrixToKlu) {
+  // [[d I, I], [I, D]]: d = 1 first (accepted), then d = 0 (a zero pivot block).
+  auto assemble = [](SparseAssembler& a, double d) {
+    a.begin();
+    for (int k = 0; k < 4; ++k) {
+      a.add(k, k, d);
+      a.add(k, 4 + k, 1.0);
+      a.add(4 + k, k, 1.0);
+      a.add(4 + k, 4 + k, 2.0 + k);
+    }
+  };
+  const std::vector<BlockSparseLu::DofGroup> groups{{0, 1, 2, 3}, {4, 5, 6, 7}};
+  SparseAssembler a(8);
+  assemble(a, 1.0);
+  JacobianSolver solver;
+  solver.setBlocks(groups);
+  solver.analyze(a.finish());
+  ASSERT_TRUE(solver.factorize(a.matrix()));
+  ASSERT_TRUE(solver.lastWasBlock());
+  BlockSparseLu& block = solver.blockLu();
+  a.redirect(block.storage(), block.storageSize(), block.valueOffsets());
+  block.clearStorage();
+  assemble(a, 0.0);
+  a.finish();
+  EXPECT_FALSE(solver.factorizeInPlace());
+  EXPECT_EQ(solver.blockFallbacks(), 1);
+  a.stopRedirect();
+  assemble(a, 0.0);
+  const SparseMatrix& A = a.finish();
+  ASSERT_TRUE(solver.factorize(A, false));
+  EXPECT_FALSE(solver.lastWasBlock());
+  EXPECT_EQ(solver.blockFallbacks(), 1);  // KLU alone: the block LU was not tried again
+  const VecX b = randomVector(8, 3);
+  EXPECT_LT(relativeResidual(A, solver.solve(b), b), kRelativeResidualTol);
+}
+
+// A stiff anchor on one coordinate, F = -k (x - x(t_k)), whose Jacobian entry is in the pattern
+// from the start and switched on at on_time: a jump in the Jacobian's pivot ratio mid-run.
+// [N/m]: against the robot's mass and elastic pivots, a pivot ratio the block LU refuses
+constexpr double kAnchorStiffness = 1e12;
+class SwitchedAnchor : public Effect {
+ public:
+  SwitchedAnchor(int dof, double on_time, double stiffness)
+      : Effect("switched_anchor"), dof_(dof), on_time_(on_time), stiffness_(stiffness) {}
+  void addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const override {
+    const double k = ctx.time > on_time_ ? stiffness_ : 0.0;
+    force(dof_) -= k * (ctx.q(dof_) - ctx.q_start(dof_));
+    if (jacobian) jacobian->add(dof_, dof_, -k);
+  }
+
+ private:
+  int dof_;
+  double on_time_, stiffness_;
+};
+
+// The block LU refuses a Jacobian assembled in its storage in the middle of a run: the step is
+// completed by KLU (the Jacobian assembled again as a matrix), and the run matches a KLU-only
+// run of the same robot.
+TEST(BlockSparseLu, StepperFallsBackToKluWhenRefusedInPlace) {
+  const SimulationConfig config = loadSimulationConfig(shippedConfig("granular_design1.yaml"));
+  auto run = [&](bool block_lu, int steps, int* fallbacks, int* substeps) {
+    NewtonOptions options = config.solver;
+    options.block_lu = block_lu;
+    std::vector<EffectPtr> effects;
+    for (const EffectSpec& spec : config.effects)
+      effects.push_back(makeEffect(spec, config.medium, config.robotDimensions()));
+    const RodNetwork net = buildMultiTailRobot(config.geometry);
+    const int tip = RodNetwork::positionIndex(net.parts.tail_nodes.front().back());
+    effects.push_back(std::make_unique<SwitchedAnchor>(tip, 5.5 * config.dt, kAnchorStiffness));
+    ImplicitStepper stepper(net, std::move(effects), config.medium, options);
+    RodState state = stepper.initialState();
+    const std::shared_ptr<const MotorCommand> command = makeMotor(config.motor);
+    for (int k = 0; k < steps; ++k) *substeps += stepper.step(state, config.dt, *command).substeps;
+    *fallbacks = stepper.linearSolver().blockFallbacks();
+    return state;
+  };
+  constexpr int kSteps = 10;
+  int block_fallbacks = 0, klu_fallbacks = 0, block_substeps = 0, klu_substeps = 0;
+  const RodState a = run(true, kSteps, &block_fallbacks, &block_substeps);
+  const RodState b = run(false, kSteps, &klu_fallbacks, &klu_substeps);
+  EXPECT_GT(block_fallbacks, 0);
+  EXPECT_EQ(block_substeps, kSteps);  // the refused step is not subdivided: KLU completes it
+  EXPECT_EQ(klu_substeps, kSteps);
+  const double scale = a.q.cwiseAbs().maxCoeff();
+  EXPECT_LT((a.q - b.q).cwiseAbs().maxCoeff(), 1e-9 * std::max(scale, 1.0));
 }
 
 // The stepper's trajectory does not depend on which LU solves the Newton system: both solve it

@@ -13,14 +13,17 @@ double stretchingEnergy(const RodNetwork& net, const VecX& q) {
   return energy;
 }
 
-void addStretchingGradientHessian(const RodNetwork& net, const VecX& q, VecX& gradient,
-                                  SparseAssembler* hessian) {
+namespace {
+
+// The gradient and Hessian with each edge's length and unit tangent from edge_geometry(edge).
+template <class EdgeGeometry>
+void addStretching(const RodNetwork& net, const EdgeGeometry& edge_geometry, VecX& gradient,
+                   SparseAssembler* hessian) {
   for (const StretchSpring& s : net.stretch_springs) {
     const EdgeDef& e = net.edges[s.edge];
-    const Vec3 edge = nodePosition(q, e.end_node) - nodePosition(q, e.start_node);
-    const double len = edge.norm();
-    const double inv_len = 1.0 / len;
-    const Vec3 t = edge * inv_len;
+    double len;
+    Vec3 t;
+    edge_geometry(s.edge, len, t);
     // docs/model.md 1.5: dE/dx_b = EA (l/lbar - 1) t = -dE/dx_a
     // (a true division: the strain of a stiff edge is a small difference, one rounding only)
     const Vec3 g = (s.EA * (len / s.rest_length - 1.0)) * t;
@@ -29,13 +32,40 @@ void addStretchingGradientHessian(const RodNetwork& net, const VecX& q, VecX& gr
     gradient.segment<3>(b) += g;
     if (!hessian) continue;
     // docs/model.md 1.5: K = EA [ (1/lbar - 1/l) I + (1/l) t t^T ]
+    const double inv_len = 1.0 / len;
     Mat3 K = (s.EA * inv_len) * (t * t.transpose());
     K.diagonal().array() += s.EA * (1.0 / s.rest_length - inv_len);
     hessian->addBlock(a, a, K);
-    hessian->addBlock(a, b, -K);
-    hessian->addBlock(b, a, -K);
+    hessian->subtractBlock(a, b, K);
+    hessian->subtractBlock(b, a, K);
     hessian->addBlock(b, b, K);
   }
+}
+
+}  // namespace
+
+void addStretchingGradientHessian(const RodNetwork& net, const VecX& q, VecX& gradient,
+                                  SparseAssembler* hessian) {
+  addStretching(
+      net,
+      [&](int edge, double& len, Vec3& t) {
+        const EdgeDef& e = net.edges[edge];
+        const Vec3 v = nodePosition(q, e.end_node) - nodePosition(q, e.start_node);
+        len = v.norm();
+        t = v * (1.0 / len);  // as the frames compute it (rod_kinematics.cpp)
+      },
+      gradient, hessian);
+}
+
+void addStretchingGradientHessian(const RodNetwork& net, const ReferenceFrames& frames,
+                                  VecX& gradient, SparseAssembler* hessian) {
+  addStretching(
+      net,
+      [&](int edge, double& len, Vec3& t) {
+        len = frames.edge_length[edge];
+        t = frames.tangent[edge];
+      },
+      gradient, hessian);
 }
 
 }  // namespace flagella

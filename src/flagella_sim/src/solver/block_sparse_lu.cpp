@@ -179,11 +179,21 @@ void BlockSparseLu::analyze(const SparseMatrix& A, const std::vector<DofGroup>& 
 bool BlockSparseLu::factorize(const SparseMatrix& A, double min_pivot_ratio) {
   if (A.nonZeros() != nonzeros_)
     throw std::logic_error("BlockSparseLu::factorize: pattern differs from the analysed one");
-  double* storage = blocks_.empty() ? nullptr : blocks_[0].data();
+  double* stored = storage();
   const double* values = A.valuePtr();
-  for (int n = 0; n < nonzeros_; ++n) storage[value_offset_[n]] = values[n];
-  for (int offset : zero_offsets_) storage[offset] = 0.0;
-  for (int offset : unit_offsets_) storage[offset] = 1.0;
+  for (int n = 0; n < nonzeros_; ++n) stored[value_offset_[n]] = values[n];
+  for (int offset : zero_offsets_) stored[offset] = 0.0;
+  for (int offset : unit_offsets_) stored[offset] = 1.0;
+  return factorizeInPlace(min_pivot_ratio);
+}
+
+void BlockSparseLu::clearStorage() {
+  for (Block& block : blocks_) block.setZero();
+  double* stored = storage();
+  for (int offset : unit_offsets_) stored[offset] = 1.0;
+}
+
+bool BlockSparseLu::factorizeInPlace(double min_pivot_ratio) {
   double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
   const int nb = numBlocks();
   for (int k = 0; k < nb; ++k) {
@@ -204,6 +214,12 @@ bool BlockSparseLu::factorize(const SparseMatrix& A, double min_pivot_ratio) {
 }
 
 VecX BlockSparseLu::solve(const VecX& b) {
+  VecX x;
+  solve(b, x);
+  return x;
+}
+
+void BlockSparseLu::solve(const VecX& b, VecX& x) {
   const int nb = numBlocks();
   for (int k = 0; k < nb; ++k)
     for (int s = 0; s < 4; ++s) work_[k](s) = groups_[k][s] >= 0 ? b(groups_[k][s]) : 0.0;
@@ -218,11 +234,10 @@ VecX BlockSparseLu::solve(const VecX& b) {
       r.noalias() -= blocks_[upper_[n][1]] * work_[upper_[n][0]];
     work_[order_[k]].noalias() = inverse_diagonal_[k] * r;
   }
-  VecX x(ndof_);
+  x.resize(ndof_);
   for (int k = 0; k < nb; ++k)
     for (int s = 0; s < 4; ++s)
       if (groups_[k][s] >= 0) x(groups_[k][s]) = work_[k](s);
-  return x;
 }
 
 }  // namespace flagella

@@ -19,7 +19,7 @@ class NegatingSink : public JacobianSink {
   explicit NegatingSink(SparseAssembler& a) : assembler_(a) {}
   void add(int row, int col, double value) override { assembler_.add(row, col, -value); }
   void addBlock(int row, int col, const Mat3& block) override {
-    assembler_.addBlock(row, col, -block);
+    assembler_.subtractBlock(row, col, block);
   }
 
  private:
@@ -129,6 +129,7 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
   SparseAssembler* hessian = with_jacobian ? &assembler_ : nullptr;
   if (with_jacobian) {
     ProfileScope timer(profile_, &StepProfile::assembly);
+    if (assembler_.redirected()) lu_.blockLu().clearStorage();
     assembler_.begin();
   }
   {
@@ -136,7 +137,7 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
     residual_ = net_.lumped_mass.cwiseProduct(q - q0 - dt * v0) / (dt * dt);
     if (with_jacobian)
       for (int i = 0; i < net_.ndof(); ++i) assembler_.add(i, i, net_.lumped_mass(i) / (dt * dt));
-    addStretchingGradientHessian(net_, q, residual_, hessian);
+    addStretchingGradientHessian(net_, frames, residual_, hessian);
     addBendTwistGradientHessian(net_, q, frames, residual_, hessian, motor_twist_);
   }
   const EffectContext ctx{
@@ -174,18 +175,34 @@ bool ImplicitStepper::factorizeJacobian() {
   if (profile_) ++profile_->factorizations;
   ++factorizations_;
   if (dense_) return dense_system_.factorize(kMinDenseReciprocalCondition);
+  if (assembler_.redirected()) {
+    if (lu_.factorizeInPlace()) return true;
+    assembler_.stopRedirect();
+    in_place_allowed_ = false;
+    in_place_refused_ = true;  // solveStep assembles the matrix and calls again
+    return false;
+  }
   if (!analyzed_ || assembler_.patternChanged()) {
     lu_.analyze(assembler_.matrix());
     analyzed_ = true;
     ++analyses_;
   }
-  return lu_.factorize(assembler_.matrix());
+  const bool factored = lu_.factorize(assembler_.matrix(), !in_place_refused_);
+  in_place_refused_ = false;
+  if (factored && lu_.lastWasBlock() && in_place_allowed_ && !any_fixed_) {
+    BlockSparseLu& block = lu_.blockLu();
+    assembler_.redirect(block.storage(), block.storageSize(), block.valueOffsets());
+  }
+  return factored;
 }
 
-VecX ImplicitStepper::solveJacobian(const VecX& rhs) {
+void ImplicitStepper::solveJacobian(const VecX& rhs, VecX& dq) {
   ProfileScope timer(profile_, &StepProfile::solve);
   if (profile_) ++profile_->updates;
-  return dense_ ? dense_system_.solve(rhs) : lu_.solve(rhs);
+  if (dense_)
+    dq = dense_system_.solve(rhs);
+  else
+    lu_.solve(rhs, dq);
 }
 
 void ImplicitStepper::transportInto(const VecX& q, const ReferenceFrames& previous,
@@ -200,7 +217,11 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
   motor_twist_.tau_bar = motor_tau_bar0_ + motor_offset;
   attempt_viscosity_ = viscosity;
   const VecX& q0 = state.q;
-  VecX q = options_.extrapolate_initial_guess ? VecX(q0 + dt * state.qdot) : q0;
+  VecX& q = iterate_;
+  if (options_.extrapolate_initial_guess)
+    q = q0 + dt * state.qdot;
+  else
+    q = q0;
   // Second-order predictor: the velocity extrapolated linearly from the last two steps, when this
   // step continues the last accepted one with the same dt.
   const bool history = options_.extrapolate_initial_guess && predictor_.valid &&
@@ -267,10 +288,17 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
                        attempt.residual < kChordResidualFactor * options_.residual_tolerance;
     if (!chord) {
       if (!built) evaluate(state, q, dt, frames, true);
-      if (!factorizeJacobian()) return attempt;
+      if (!factorizeJacobian()) {
+        if (!in_place_refused_) return attempt;
+        // The block LU refused a Jacobian assembled in its storage: assemble it as a matrix
+        // (assembly in place is off now) for KLU.
+        evaluate(state, q, dt, frames, true);
+        if (!factorizeJacobian()) return attempt;
+      }
     }
     last_update_chord = chord;
-    VecX dq = solveJacobian(residual_);
+    VecX& dq = update_;
+    solveJacobian(residual_, dq);
     if (!dq.allFinite()) return attempt;
     bool round_off;
     {
@@ -304,7 +332,9 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
 }
 
 StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& motor, int depth) {
-  RodState trial = state;
+  while (static_cast<int>(trial_states_.size()) <= depth) trial_states_.emplace_back();
+  RodState& trial = trial_states_[depth];
+  trial = state;  // copy into reused storage
   const double t_next = state.time + dt;
   // Effect hooks of this (sub)step: viscosity factor (product) and motor speed (chained).
   double viscosity_factor = 1.0;
@@ -344,7 +374,7 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& mot
     }
     motor.recordApplied(command, omega);
     viscosity_factor_ = viscosity_factor;
-    state = std::move(trial);
+    std::swap(state, trial);  // trial keeps the old state's storage for the next step
     return {a.iterations, 1, a.residual, damped_retries};
   }
   if (depth >= options_.max_subdivision_depth) {
@@ -371,9 +401,9 @@ StepReport ImplicitStepper::step(RodState& state, double dt, Motor& motor) {
   }
   // What a failed step must put back besides `state`: sub-steps accepted before the failure
   // have already advanced the effects' internal state and the motor's record.
-  std::vector<std::vector<double>> effect_states;
-  effect_states.reserve(effects_.size());
-  for (const EffectPtr& e : effects_) effect_states.push_back(e->internalState());
+  std::vector<std::vector<double>>& effect_states = saved_effect_states_;
+  effect_states.resize(effects_.size());
+  for (size_t i = 0; i < effects_.size(); ++i) effect_states[i] = effects_[i]->internalState();
   const double viscosity_factor = viscosity_factor_;
   const Motor::Record motor_record = motor.record();
   auto restore = [&] {

@@ -12,8 +12,19 @@ void JacobianSolver::analyze(const SparseMatrix& A) {
   klu_.analyze(A);
 }
 
-bool JacobianSolver::factorize(const SparseMatrix& A) {
-  if (!groups_.empty()) {
+bool JacobianSolver::factorizeInPlace() {
+  if (block_.factorizeInPlace(SparseLuSolver::kMinPivotRatio)) {
+    ++block_factorizations_;
+    last_was_block_ = true;
+    return true;
+  }
+  ++block_fallbacks_;
+  last_was_block_ = false;
+  return false;
+}
+
+bool JacobianSolver::factorize(const SparseMatrix& A, bool try_block) {
+  if (try_block && !groups_.empty()) {
     // Refused below the pivot ratio at which KLU itself re-pivots.
     if (block_.factorize(A, SparseLuSolver::kMinPivotRatio)) {
       ++block_factorizations_;
@@ -28,6 +39,13 @@ bool JacobianSolver::factorize(const SparseMatrix& A) {
 
 VecX JacobianSolver::solve(const VecX& b) {
   return last_was_block_ ? block_.solve(b) : klu_.solve(b);
+}
+
+void JacobianSolver::solve(const VecX& b, VecX& x) {
+  if (last_was_block_)
+    block_.solve(b, x);
+  else
+    x = klu_.solve(b);
 }
 
 std::vector<BlockSparseLu::DofGroup> nodeEdgeBlocks(const RodNetwork& net) {

@@ -28,8 +28,19 @@ class BlockSparseLu {
   /// Numeric factorisation of A (same pattern as analysed); false if a pivot block is singular
   /// or its pivots are below `min_pivot_ratio` times the largest pivot, or a value is not finite.
   bool factorize(const SparseMatrix& A, double min_pivot_ratio);
+  /// Assembly in place, without copying A's values: clearStorage() zeroes the factor's storage
+  /// (and writes the padding units), the caller adds the value of A's k-th stored entry at
+  /// storage()[valueOffsets()[k]], factorizeInPlace() factors what was added (the same
+  /// arithmetic as factorize(A)). Valid until the next analyze().
+  void clearStorage();
+  double* storage() { return blocks_.empty() ? nullptr : blocks_[0].data(); }
+  int storageSize() const { return 16 * static_cast<int>(blocks_.size()); }
+  const std::vector<int>& valueOffsets() const { return value_offset_; }
+  bool factorizeInPlace(double min_pivot_ratio);
   /// Solves A x = b with the last successful factorisation.
   VecX solve(const VecX& b);
+  /// The same into x (resized; its storage reused across calls).
+  void solve(const VecX& b, VecX& x);
 
   int numBlocks() const { return static_cast<int>(groups_.size()); }
   /// Off-diagonal blocks created by elimination (0 for a tree-shaped network).

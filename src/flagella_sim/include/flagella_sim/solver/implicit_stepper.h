@@ -11,6 +11,7 @@
 // that the RSS drag is never inverted (DenseNewtonSystem).
 #pragma once
 
+#include <deque>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -101,7 +102,8 @@ class ImplicitStepper {
   void buildDenseJacobian(const EffectContext& ctx);
   /// Factors the Jacobian built by evaluate(); false if it is singular.
   bool factorizeJacobian();
-  VecX solveJacobian(const VecX& rhs);
+  /// Solves J dq = rhs with the last factorisation into dq.
+  void solveJacobian(const VecX& rhs, VecX& dq);
   void transportInto(const VecX& q, const ReferenceFrames& previous, ReferenceFrames& frames) const;
 
   RodNetwork net_;
@@ -119,11 +121,22 @@ class ImplicitStepper {
   VecX residual_, external_;
   JacobianSolver lu_;
   bool analyzed_ = false;
+  // Assembly in place (docs/model.md 1.10): once the block LU has factored a Jacobian of this
+  // pattern, later Jacobians are assembled straight into its storage. A refusal of the block LU
+  // then needs the matrix for KLU: the Jacobian is assembled again as a matrix, and assembly in
+  // place stays off for this stepper.
+  bool in_place_allowed_ = true;
+  bool in_place_refused_ = false;
   bool dense_ = false;  ///< some effect has a dense Jacobian block
   DenseNewtonSystem dense_system_;
   int factorizations_ = 0;
   int analyses_ = 0;
-  VecX previous_iterate_;                  ///< to undo a chord update that raised the residual
+  VecX previous_iterate_;  ///< to undo a chord update that raised the residual
+  // Storage reused by every step (no allocation inside a step once the first one has run): the
+  // Newton iterate and update, each subdivision depth's trial state, the effects' saved states.
+  VecX iterate_, update_;
+  std::deque<RodState> trial_states_;  // a deque: growing it keeps deeper levels' references
+  std::vector<std::vector<double>> saved_effect_states_;
   ReferenceFrames frames_, trial_frames_;  ///< of the iterate and of a line-search trial
   /// The last accepted (sub)step's start and end rates, for the second-order predictor.
   struct PredictorHistory {

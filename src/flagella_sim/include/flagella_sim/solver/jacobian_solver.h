@@ -19,11 +19,22 @@ class JacobianSolver {
   /// Symbolic analysis for A's pattern (call before the first factorisation and whenever the
   /// pattern changes).
   void analyze(const SparseMatrix& A);
-  /// Numeric factorisation; false if A is singular for KLU too.
-  bool factorize(const SparseMatrix& A);
+  /// Numeric factorisation; false if A is singular for KLU too. try_block = false: KLU only.
+  bool factorize(const SparseMatrix& A, bool try_block = true);
+  /// Whether the block LU is in use (DOF groups set): then A can be assembled in place, in
+  /// blockLu()'s storage (BlockSparseLu::clearStorage), and factored by factorizeInPlace().
+  bool hasBlockLu() const { return !groups_.empty(); }
+  BlockSparseLu& blockLu() { return block_; }
+  /// Factors the values assembled in the block LU's storage; false if the block LU refuses them
+  /// (the caller then assembles A and calls factorize(A, false): KLU).
+  bool factorizeInPlace();
   /// Solves A x = b with the last factorisation.
   VecX solve(const VecX& b);
+  /// The same into x (the block LU reuses x's storage).
+  void solve(const VecX& b, VecX& x);
 
+  /// Whether the last factorisation was the block LU's (else KLU's).
+  bool lastWasBlock() const { return last_was_block_; }
   int blockFactorizations() const { return block_factorizations_; }
   /// Factorisations the block LU refused and KLU made instead.
   int blockFallbacks() const { return block_fallbacks_; }
