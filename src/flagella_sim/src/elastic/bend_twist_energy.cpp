@@ -24,27 +24,27 @@ SpringVector nodeGradient(const EdgeVector& g) {
 // docs/model.md 1.5: H_pp = g_ee, H_pc = -g_ee + g_ef, H_pq = -g_ef, H_cc = g_ee - g_ef - g_fe +
 // g_ff, H_cq = g_ef - g_ff, H_qq = g_ff; theta columns map like the gradient.
 void nodeHessian(const EdgeMatrix& h, SpringMatrix& out) {
-  const Mat3 ee = h.block<3, 3>(0, 0), ef = h.block<3, 3>(0, 3), fe = h.block<3, 3>(3, 0),
-             ff = h.block<3, 3>(3, 3);
-  out.block<3, 3>(0, 0) = ee;
-  out.block<3, 3>(0, 3) = ef - ee;
-  out.block<3, 3>(0, 6) = -ef;
-  out.block<3, 3>(3, 0) = fe - ee;
-  out.block<3, 3>(3, 3) = ee - ef - fe + ff;
-  out.block<3, 3>(3, 6) = ef - ff;
-  out.block<3, 3>(6, 0) = -fe;
-  out.block<3, 3>(6, 3) = fe - ff;
-  out.block<3, 3>(6, 6) = ff;
-  for (int k = 0; k < 2; ++k) {
-    const Eigen::Matrix<double, 3, 1> e_th = h.block<3, 1>(0, 6 + k),
-                                      f_th = h.block<3, 1>(3, 6 + k);
-    const Eigen::Matrix<double, 9, 1> col =
-        (Eigen::Matrix<double, 9, 1>() << -e_th, e_th - f_th, f_th).finished();
-    out.block<9, 1>(0, 9 + k) = col;
-    out.block<1, 9>(9 + k, 0) = col.transpose();
-    out(9 + k, 9) = h(6 + k, 6);
-    out(9 + k, 10) = h(6 + k, 7);
+  // Column by column (contiguous in both): column j of out is A^T (h A)(:, j), with A the map
+  // from node space to edge space; the centre block keeps the sum's order ((ee - ef) - fe) + ff.
+  auto column = [&out](int j, const Eigen::Matrix<double, 8, 1>& m) {
+    double* o = out.data() + 11 * j;
+    for (int k = 0; k < 3; ++k) {
+      o[k] = -m(k);
+      o[3 + k] = m(k) - m(3 + k);
+      o[6 + k] = m(3 + k);
+    }
+    o[9] = m(6);
+    o[10] = m(7);
+  };
+  for (int b = 0; b < 3; ++b) {
+    column(b, -h.col(b));
+    column(3 + b, h.col(b) - h.col(3 + b));
+    for (int k = 0; k < 3; ++k)  // H_cc = ee - ef - fe + ff
+      out(3 + k, 3 + b) = ((h(k, b) - h(k, 3 + b)) - h(3 + k, b)) + h(3 + k, 3 + b);
+    column(6 + b, h.col(3 + b));
   }
+  column(9, h.col(6));
+  column(10, h.col(7));
 }
 
 Mat3 sym(const Vec3& a, const Vec3& b) { return a * b.transpose() + b * a.transpose(); }
@@ -217,10 +217,11 @@ void addBendTwistGradientHessian(const RodNetwork& net, const VecX& q,
     // docs/model.md 1.6: dE/dtheta^g = s_g dE/dtheta_loc; mixed entries carry both signs (only
     // the two twist DOFs have a sign)
     for (int a = 9; a < 11; ++a) {
-      terms.gradient(a) *= map.sign[a];
+      if (map.sign[a] > 0.0) continue;  // +1: nothing to flip
+      terms.gradient(a) = -terms.gradient(a);
       if (!hessian) continue;
-      terms.hessian.row(a) *= map.sign[a];
-      terms.hessian.col(a) *= map.sign[a];
+      terms.hessian.row(a) *= -1.0;
+      terms.hessian.col(a) *= -1.0;
     }
     for (int a = 0; a < 11; ++a) gradient(map.index[a]) += terms.gradient(a);
     if (!hessian) continue;

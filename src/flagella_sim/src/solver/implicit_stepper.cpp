@@ -211,38 +211,39 @@ void ImplicitStepper::transportInto(const VecX& q, const ReferenceFrames& previo
   transportFrames(net_, q, previous, frames);
 }
 
-ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, double motor_offset,
+ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodState& result,
+                                                    double dt, double motor_offset,
                                                     double viscosity, bool damped) {
   Attempt attempt;
   motor_twist_.tau_bar = motor_tau_bar0_ + motor_offset;
   attempt_viscosity_ = viscosity;
-  const VecX& q0 = state.q;
+  const VecX& q0 = start.q;
   VecX& q = iterate_;
   if (options_.extrapolate_initial_guess)
-    q = q0 + dt * state.qdot;
+    q = q0 + dt * start.qdot;
   else
     q = q0;
   // Second-order predictor: the velocity extrapolated linearly from the last two steps, when this
   // step continues the last accepted one with the same dt.
   const bool history = options_.extrapolate_initial_guess && predictor_.valid &&
-                       predictor_.time == state.time && predictor_.dt == dt &&
-                       predictor_.qdot_end.size() == state.qdot.size() &&
-                       predictor_.qdot_end == state.qdot;
-  if (history) q += dt * (state.qdot - predictor_.qdot_start);
+                       predictor_.time == start.time && predictor_.dt == dt &&
+                       predictor_.qdot_end.size() == start.qdot.size() &&
+                       predictor_.qdot_end == start.qdot;
+  if (history) q += dt * (start.qdot - predictor_.qdot_start);
   for (int i = 0; i < q.size(); ++i)
     if (net_.fixed_dof[i]) q(i) = q0(i);
   // The iterate's frames live in frames_ (storage reused); an accepted step swaps them in.
   ReferenceFrames& frames = frames_;
   auto accept = [&]() {
     attempt.converged = true;
-    predictor_.qdot_start = state.qdot;
-    state.qdot = (q - q0) / dt;
-    predictor_.qdot_end = state.qdot;
-    predictor_.time = state.time + dt;
+    predictor_.qdot_start = start.qdot;
+    result.qdot = (q - q0) / dt;
+    predictor_.qdot_end = result.qdot;
+    predictor_.time = start.time + dt;
     predictor_.dt = dt;
     predictor_.valid = true;
-    state.q = q;
-    std::swap(state.frames, frames_);
+    result.q = q;
+    std::swap(result.frames, frames_);
   };
   // Modified Newton (NewtonOptions::jacobian_reuse): the first update of every attempt uses a
   // fresh Jacobian (one from the previous step was measured to contract 5-20x worse: the stiff
@@ -253,19 +254,19 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
   // cheap residual-only evaluation and build the Jacobian only if another update needs a fresh
   // one.
   for (int iter = 0; iter <= options_.max_iterations; ++iter) {
-    transportInto(q, state.frames, frames);
+    transportInto(q, start.frames, frames);
     bool built = iter == 0;
-    attempt.residual = evaluate(state, q, dt, frames, built);
+    attempt.residual = evaluate(start, q, dt, frames, built);
     attempt.iterations = iter;
     if (options_.trace)
-      std::fprintf(stderr, "t=%.4f iter %d residual %.3e%s\n", state.time, iter, attempt.residual,
+      std::fprintf(stderr, "t=%.4f iter %d residual %.3e%s\n", start.time, iter, attempt.residual,
                    last_update_chord ? " (chord)" : "");
     const double previous_residual = residual_history[(iter + 2) % 3];  // of iterate iter - 1
     if (last_update_chord && !(attempt.residual < previous_residual)) {
       // The chord update raised the residual: undo it and rebuild the Jacobian there.
       q = previous_iterate_;
-      transportInto(q, state.frames, frames);
-      attempt.residual = evaluate(state, q, dt, frames, true);
+      transportInto(q, start.frames, frames);
+      attempt.residual = evaluate(start, q, dt, frames, true);
       built = true;
     } else {
       if (!std::isfinite(attempt.residual)) return attempt;
@@ -287,12 +288,12 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
                        attempt.residual < options_.jacobian_reuse * previous_residual &&
                        attempt.residual < kChordResidualFactor * options_.residual_tolerance;
     if (!chord) {
-      if (!built) evaluate(state, q, dt, frames, true);
+      if (!built) evaluate(start, q, dt, frames, true);
       if (!factorizeJacobian()) {
         if (!in_place_refused_) return attempt;
         // The block LU refused a Jacobian assembled in its storage: assemble it as a matrix
         // (assembly in place is off now) for KLU.
-        evaluate(state, q, dt, frames, true);
+        evaluate(start, q, dt, frames, true);
         if (!factorizeJacobian()) return attempt;
       }
     }
@@ -311,8 +312,8 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
       double length = 1.0;
       for (int k = 0;; ++k) {
         const VecX trial = q - length * dq;
-        transportInto(trial, state.frames, trial_frames_);
-        const double r = evaluate(state, trial, dt, trial_frames_, false);
+        transportInto(trial, start.frames, trial_frames_);
+        const double r = evaluate(start, trial, dt, trial_frames_, false);
         if (r < (1.0 - kArmijoFraction * length) * attempt.residual) break;
         if (k == kMaxBacktracks) return attempt;  // no descent along the Newton direction
         length *= 0.5;
@@ -323,7 +324,7 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
     q -= dq;
     if (round_off) {
       // Round-off-level update with a nearly converged residual: accept (NewtonOptions).
-      transportInto(q, state.frames, frames);
+      transportInto(q, start.frames, frames);
       accept();
       return attempt;
     }
@@ -333,8 +334,7 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(RodState& state, double dt, 
 
 StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& motor, int depth) {
   while (static_cast<int>(trial_states_.size()) <= depth) trial_states_.emplace_back();
-  RodState& trial = trial_states_[depth];
-  trial = state;  // copy into reused storage
+  RodState& trial = trial_states_[depth];  // storage reused; solveStep writes q, qdot, frames
   const double t_next = state.time + dt;
   // Effect hooks of this (sub)step: viscosity factor (product) and motor speed (chained).
   double viscosity_factor = 1.0;
@@ -357,11 +357,11 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& mot
   }
   // docs/model.md 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
   const double offset = state.motor_twist_offset + omega * dt;
-  Attempt a = solveStep(trial, dt, offset, viscosity, false);
+  Attempt a = solveStep(state, trial, dt, offset, viscosity, false);
   int damped_retries = 0;
   if (!a.converged && options_.damped_retry) {
     const Attempt plain = a;
-    a = solveStep(trial, dt, offset, viscosity, true);  // trial is untouched by a failed attempt
+    a = solveStep(state, trial, dt, offset, viscosity, true);
     a.iterations += plain.iterations;
     damped_retries = a.converged ? 1 : 0;
   }

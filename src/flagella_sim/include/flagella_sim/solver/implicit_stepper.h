@@ -89,7 +89,10 @@ class ImplicitStepper {
   };
   /// One Newton solve of the step; `damped`: backtrack each update until the scaled residual
   /// decreases (Armijo), and give up if no step length below 1 decreases it.
-  Attempt solveStep(RodState& state, double dt, double motor_offset, double viscosity, bool damped);
+  /// The step from `start`; a converged attempt writes q, qdot and frames of `result` (nothing
+  /// else), a failed one leaves it as it was.
+  Attempt solveStep(const RodState& start, RodState& result, double dt, double motor_offset,
+                    double viscosity, bool damped);
   /// Fills residual_ (and the Jacobian in assembler_ if asked) at iterate q; returns the
   /// scaled residual (infinity if anything is not finite).
   double evaluate(const RodState& start, const VecX& q, double dt, const ReferenceFrames& frames,
