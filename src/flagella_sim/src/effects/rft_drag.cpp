@@ -107,9 +107,15 @@ void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jaco
     force.segment<3>(3 * n.node) += F;
     if (!jacobian) continue;
 
-    // Velocity part: dF/dx_j = -(l/dt) [eta_p I + (eta_t - eta_p) t t^T].
-    Mat3 d_self = (-(l / ctx.dt) * (eta_t - eta_p)) * (that * that.transpose());
-    d_self.diagonal().array() -= (l / ctx.dt) * eta_p;
+    // Velocity part: dF/dx_j = -(l/dt) [eta_p I + (eta_t - eta_p) t t^T]. (The 3x3 blocks are
+    // written coefficient by coefficient: the same arithmetic as the matrix expressions, without
+    // their mixed scalar/packed temporaries.)
+    const double along = -(l / ctx.dt) * (eta_t - eta_p);
+    const double across = (l / ctx.dt) * eta_p;
+    Mat3 d_self;
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) d_self(r, c) = (along * that(r)) * that(c);
+    for (int k = 0; k < 3; ++k) d_self(k, k) -= across;
     if (use_profile_ && mu_factor > 0.0) {  // dependence of the local viscosity on height
       const double dfactor = ctx.medium.profile.factorDerivative(height);
       d_self += (F / mu_factor) * (dfactor * ctx.medium.up).transpose();
@@ -118,23 +124,31 @@ void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jaco
     // dthat/ds = (I - t t^T)/|s|, i.e. dF/ds = -(l (eta_t - eta_p)/|s|) ((t.v)(I - t t^T) + t w^T)
     // with w = v - (t.v) t; ds/dx of a neighbour is -+(I - t_e t_e^T)/(|e| edges).
     const Vec3 w = v - tv * that;
-    Mat3 dF_ds = that * (w - tv * that).transpose();
-    dF_ds.diagonal().array() += tv;
-    dF_ds *= -l * (eta_t - eta_p) * inv_s_norm;
-    // dF/ds (I - t_e t_e^T) without forming the projector.
-    auto projected = [&](const Vec3& t_e) -> Mat3 {
-      return dF_ds - (dF_ds * t_e) * t_e.transpose();
+    const double ds_scale = -l * (eta_t - eta_p) * inv_s_norm;
+    Mat3 dF_ds;
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) dF_ds(r, c) = that(r) * (w(c) - tv * that(c));
+    for (int k = 0; k < 3; ++k) dF_ds(k, k) += tv;
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) dF_ds(r, c) *= ds_scale;
+    // factor dF/ds (I - t_e t_e^T), without forming the projector, into `out`; d_self -= out.
+    auto projected = [&](const Vec3& t_e, double factor, Mat3& out) {
+      double u[3];
+      for (int r = 0; r < 3; ++r)
+        u[r] = (dF_ds(r, 0) * t_e(0) + dF_ds(r, 1) * t_e(1)) + dF_ds(r, 2) * t_e(2);
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) {
+          out(r, c) = (dF_ds(r, c) - u[r] * t_e(c)) * factor;
+          d_self(r, c) -= out(r, c);
+        }
     };
     if (n.prev >= 0) {
-      const Mat3 d_prev = projected(t_in) * (-inv_len_in / edge_count);
-      d_self -= d_prev;
+      Mat3 d_prev;
+      projected(t_in, -inv_len_in / edge_count, d_prev);
       jacobian->addBlock(3 * n.node, 3 * n.prev, d_prev);
     }
     Mat3 d_next;
-    if (n.next >= 0) {
-      d_next = projected(t_out) * (inv_len_out / edge_count);
-      d_self -= d_next;
-    }
+    if (n.next >= 0) projected(t_out, inv_len_out / edge_count, d_next);
     jacobian->addBlock(3 * n.node, 3 * n.node, d_self);
     if (n.next >= 0) jacobian->addBlock(3 * n.node, 3 * n.next, d_next);
   }
