@@ -78,7 +78,7 @@ void breakdown(const SimulationConfig& config) {
         assembler.begin();
         gradient.setZero();
         for (int i = 0; i < net.ndof(); ++i) assembler.add(i, i, net.lumped_mass(i) / 1e-4);
-        addStretchingGradientHessian(net, s.q, gradient, &assembler);
+        addStretchingGradientHessian(net, s.frames, gradient, &assembler);
         addBendTwistGradientHessian(net, s.q, s.frames, gradient, &assembler, {});
         assembler.finish();
       },

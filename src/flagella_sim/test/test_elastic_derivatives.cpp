@@ -26,7 +26,7 @@ struct ElasticProbe {
     const ReferenceFrames fr = transportFrames(net, q, base);
     VecX g = VecX::Zero(net.ndof());
     if (hess) hess->begin();
-    if (stretching) addStretchingGradientHessian(net, fr, g, hess);  // the stepper's form
+    if (stretching) addStretchingGradientHessian(net, fr, g, hess);
     addBendTwistGradientHessian(net, q, fr, g, hess);
     return g;
   }
@@ -125,23 +125,6 @@ TEST(ElasticDerivatives, JunctionWithFlippedEdges) {
     checkGradientAndHessian(s, 1e-7, 1e-6);
     checkGradientAndHessian(s, 1e-7, 1e-5, false);
   }
-}
-
-// The stretching terms from the frames' edge lengths and tangents (the stepper's form, checked
-// against finite differences above) are the ones computed from q, to the last bit.
-TEST(ElasticDerivatives, StretchingFromFramesEqualsFromPositions) {
-  const Scenario s =
-      deformedScenario(testing::makeJunctionNetwork(testing::vpsMaterial()), 7u, 1.0e-3, 0.3);
-  const int n = s.net.ndof();
-  SparseAssembler from_q(n), from_frames(n);
-  VecX g_q = VecX::Zero(n), g_frames = VecX::Zero(n);
-  from_q.begin();
-  from_frames.begin();
-  addStretchingGradientHessian(s.net, s.q, g_q, &from_q);
-  addStretchingGradientHessian(s.net, s.frames, g_frames, &from_frames);
-  EXPECT_EQ((g_q - g_frames).cwiseAbs().maxCoeff(), 0.0);
-  EXPECT_GT(g_q.norm(), 0.0);
-  EXPECT_EQ(SparseMatrix(from_q.finish() - from_frames.finish()).norm(), 0.0);
 }
 
 TEST(ElasticDerivatives, RestStateHasZeroEnergyAndForce) {

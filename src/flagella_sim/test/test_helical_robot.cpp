@@ -236,7 +236,7 @@ TEST(HelicalRestState, ElasticGradientVanishes) {
   const VecX q = net.restDofs();
   const ReferenceFrames frames = initialFrames(net, q);
   VecX gradient = VecX::Zero(net.ndof());
-  addStretchingGradientHessian(net, q, gradient, nullptr);
+  addStretchingGradientHessian(net, frames, gradient, nullptr);
   addBendTwistGradientHessian(net, q, frames, gradient, nullptr);
   EXPECT_LT(gradient.cwiseAbs().maxCoeff(), kRestGradientTol);
   EXPECT_NEAR(stretchingEnergy(net, q) + bendTwistEnergy(net, q, frames), 0.0, 1e-20);

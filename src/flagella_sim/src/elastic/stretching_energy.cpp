@@ -13,17 +13,12 @@ double stretchingEnergy(const RodNetwork& net, const VecX& q) {
   return energy;
 }
 
-namespace {
-
-// The gradient and Hessian with each edge's length and unit tangent from edge_geometry(edge).
-template <class EdgeGeometry>
-void addStretching(const RodNetwork& net, const EdgeGeometry& edge_geometry, VecX& gradient,
-                   SparseAssembler* hessian) {
+void addStretchingGradientHessian(const RodNetwork& net, const ReferenceFrames& frames,
+                                  VecX& gradient, SparseAssembler* hessian) {
   for (const StretchSpring& s : net.stretch_springs) {
     const EdgeDef& e = net.edges[s.edge];
-    double len;
-    Vec3 t;
-    edge_geometry(s.edge, len, t);
+    const double len = frames.edge_length[s.edge];
+    const Vec3& t = frames.tangent[s.edge];
     // docs/model.md 1.5: dE/dx_b = EA (l/lbar - 1) t = -dE/dx_a
     // (a true division: the strain of a stiff edge is a small difference, one rounding only)
     const Vec3 g = (s.EA * (len / s.rest_length - 1.0)) * t;
@@ -40,32 +35,6 @@ void addStretching(const RodNetwork& net, const EdgeGeometry& edge_geometry, Vec
     hessian->subtractBlock(b, a, K);
     hessian->addBlock(b, b, K);
   }
-}
-
-}  // namespace
-
-void addStretchingGradientHessian(const RodNetwork& net, const VecX& q, VecX& gradient,
-                                  SparseAssembler* hessian) {
-  addStretching(
-      net,
-      [&](int edge, double& len, Vec3& t) {
-        const EdgeDef& e = net.edges[edge];
-        const Vec3 v = nodePosition(q, e.end_node) - nodePosition(q, e.start_node);
-        len = v.norm();
-        t = v * (1.0 / len);  // as the frames compute it (rod_kinematics.cpp)
-      },
-      gradient, hessian);
-}
-
-void addStretchingGradientHessian(const RodNetwork& net, const ReferenceFrames& frames,
-                                  VecX& gradient, SparseAssembler* hessian) {
-  addStretching(
-      net,
-      [&](int edge, double& len, Vec3& t) {
-        len = frames.edge_length[edge];
-        t = frames.tangent[edge];
-      },
-      gradient, hessian);
 }
 
 }  // namespace flagella

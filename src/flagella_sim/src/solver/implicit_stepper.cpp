@@ -170,30 +170,30 @@ void ImplicitStepper::buildDenseJacobian(const EffectContext& ctx) {
     if (e->hasDenseJacobian()) e->addDenseJacobian(ctx, dense_system_);
 }
 
-bool ImplicitStepper::factorizeJacobian() {
+ImplicitStepper::Factorization ImplicitStepper::factorizeJacobian(bool klu_only) {
   ProfileScope timer(profile_, &StepProfile::factorization);
   if (profile_) ++profile_->factorizations;
   ++factorizations_;
-  if (dense_) return dense_system_.factorize(kMinDenseReciprocalCondition);
+  if (dense_)
+    return dense_system_.factorize(kMinDenseReciprocalCondition) ? Factorization::kFactored
+                                                                 : Factorization::kSingular;
   if (assembler_.redirected()) {
-    if (lu_.factorizeInPlace()) return true;
+    if (lu_.factorizeInPlace()) return Factorization::kFactored;
     assembler_.stopRedirect();
     in_place_allowed_ = false;
-    in_place_refused_ = true;  // solveStep assembles the matrix and calls again
-    return false;
+    return Factorization::kNeedsMatrix;
   }
   if (!analyzed_ || assembler_.patternChanged()) {
     lu_.analyze(assembler_.matrix());
     analyzed_ = true;
     ++analyses_;
   }
-  const bool factored = lu_.factorize(assembler_.matrix(), !in_place_refused_);
-  in_place_refused_ = false;
-  if (factored && lu_.lastWasBlock() && in_place_allowed_ && !any_fixed_) {
+  if (!lu_.factorize(assembler_.matrix(), !klu_only)) return Factorization::kSingular;
+  if (lu_.lastWasBlock() && in_place_allowed_ && !any_fixed_) {
     BlockSparseLu& block = lu_.blockLu();
     assembler_.redirect(block.storage(), block.storageSize(), block.valueOffsets());
   }
-  return factored;
+  return Factorization::kFactored;
 }
 
 void ImplicitStepper::solveJacobian(const VecX& rhs, VecX& dq) {
@@ -289,13 +289,14 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
                        attempt.residual < kChordResidualFactor * options_.residual_tolerance;
     if (!chord) {
       if (!built) evaluate(start, q, dt, frames, true);
-      if (!factorizeJacobian()) {
-        if (!in_place_refused_) return attempt;
+      Factorization factored = factorizeJacobian();
+      if (factored == Factorization::kNeedsMatrix) {
         // The block LU refused a Jacobian assembled in its storage: assemble it as a matrix
         // (assembly in place is off now) for KLU.
         evaluate(start, q, dt, frames, true);
-        if (!factorizeJacobian()) return attempt;
+        factored = factorizeJacobian(/*klu_only=*/true);
       }
+      if (factored != Factorization::kFactored) return attempt;
     }
     last_update_chord = chord;
     VecX& dq = update_;

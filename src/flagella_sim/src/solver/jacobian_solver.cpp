@@ -12,27 +12,21 @@ void JacobianSolver::analyze(const SparseMatrix& A) {
   klu_.analyze(A);
 }
 
+bool JacobianSolver::countBlockAttempt(bool accepted) {
+  ++(accepted ? block_factorizations_ : block_fallbacks_);
+  last_was_block_ = accepted;
+  return accepted;
+}
+
 bool JacobianSolver::factorizeInPlace() {
-  if (block_.factorizeInPlace(SparseLuSolver::kMinPivotRatio)) {
-    ++block_factorizations_;
-    last_was_block_ = true;
-    return true;
-  }
-  ++block_fallbacks_;
-  last_was_block_ = false;
-  return false;
+  return countBlockAttempt(block_.factorizeInPlace(SparseLuSolver::kMinPivotRatio));
 }
 
 bool JacobianSolver::factorize(const SparseMatrix& A, bool try_block) {
-  if (try_block && !groups_.empty()) {
-    // Refused below the pivot ratio at which KLU itself re-pivots.
-    if (block_.factorize(A, SparseLuSolver::kMinPivotRatio)) {
-      ++block_factorizations_;
-      last_was_block_ = true;
-      return true;
-    }
-    ++block_fallbacks_;
-  }
+  // Refused below the pivot ratio at which KLU itself re-pivots.
+  if (try_block && !groups_.empty() &&
+      countBlockAttempt(block_.factorize(A, SparseLuSolver::kMinPivotRatio)))
+    return true;
   last_was_block_ = false;
   return klu_.factorize(A);
 }

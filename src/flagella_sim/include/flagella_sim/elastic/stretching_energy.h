@@ -9,11 +9,8 @@ namespace flagella {
 
 double stretchingEnergy(const RodNetwork& net, const VecX& q);
 
-/// Adds dE_s/dq to gradient and, if hessian is non-null, d2E_s/dq2 to it.
-void addStretchingGradientHessian(const RodNetwork& net, const VecX& q, VecX& gradient,
-                                  SparseAssembler* hessian);
-/// The same with the edges' lengths and unit tangents taken from `frames` (those of q: the
-/// stepper's transported frames), not recomputed from q; the same arithmetic.
+/// Adds dE_s/dq to gradient and, if hessian is non-null, d2E_s/dq2 to it, at the q of `frames`
+/// (initialFrames or transportFrames of q): the edges' lengths and unit tangents are theirs.
 void addStretchingGradientHessian(const RodNetwork& net, const ReferenceFrames& frames,
                                   VecX& gradient, SparseAssembler* hessian);
 

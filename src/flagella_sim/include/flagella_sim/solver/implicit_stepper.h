@@ -103,8 +103,13 @@ class ImplicitStepper {
   void pinFixedDofs(SparseMatrix& J) const;
   /// Starts the dense Newton system from the sparse Jacobian and adds the effects' dense blocks.
   void buildDenseJacobian(const EffectContext& ctx);
-  /// Factors the Jacobian built by evaluate(); false if it is singular.
-  bool factorizeJacobian();
+  enum class Factorization {
+    kFactored,
+    kSingular,
+    kNeedsMatrix,  ///< the block LU refused a Jacobian assembled in place: assemble it again
+  };
+  /// Factors the Jacobian built by evaluate(); klu_only: with KLU, not trying the block LU.
+  Factorization factorizeJacobian(bool klu_only = false);
   /// Solves J dq = rhs with the last factorisation into dq.
   void solveJacobian(const VecX& rhs, VecX& dq);
   void transportInto(const VecX& q, const ReferenceFrames& previous, ReferenceFrames& frames) const;
@@ -129,7 +134,6 @@ class ImplicitStepper {
   // then needs the matrix for KLU: the Jacobian is assembled again as a matrix, and assembly in
   // place stays off for this stepper.
   bool in_place_allowed_ = true;
-  bool in_place_refused_ = false;
   bool dense_ = false;  ///< some effect has a dense Jacobian block
   DenseNewtonSystem dense_system_;
   int factorizations_ = 0;

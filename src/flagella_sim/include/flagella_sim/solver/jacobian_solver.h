@@ -21,9 +21,8 @@ class JacobianSolver {
   void analyze(const SparseMatrix& A);
   /// Numeric factorisation; false if A is singular for KLU too. try_block = false: KLU only.
   bool factorize(const SparseMatrix& A, bool try_block = true);
-  /// Whether the block LU is in use (DOF groups set): then A can be assembled in place, in
+  /// After a block LU factorisation (lastWasBlock()), A can be assembled in place, in
   /// blockLu()'s storage (BlockSparseLu::clearStorage), and factored by factorizeInPlace().
-  bool hasBlockLu() const { return !groups_.empty(); }
   BlockSparseLu& blockLu() { return block_; }
   /// Factors the values assembled in the block LU's storage; false if the block LU refuses them
   /// (the caller then assembles A and calls factorize(A, false): KLU).
@@ -42,6 +41,9 @@ class JacobianSolver {
   const BlockSparseLu& blockLu() const { return block_; }
 
  private:
+  /// Counts a block LU factorisation or its refusal, records which LU holds the factors.
+  bool countBlockAttempt(bool accepted);
+
   std::vector<BlockSparseLu::DofGroup> groups_;
   BlockSparseLu block_;
   SparseLuSolver klu_;
