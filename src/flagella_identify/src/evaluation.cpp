@@ -98,28 +98,25 @@ std::vector<ConfigOverride> allOverrides(const std::vector<ConfigOverride>& a,
   return all;
 }
 
-/// The model's buckling threshold [rad/s] for a measured one (docs/model.md 8.4.5): runs of
-/// `cfg` (the row's config, already set to last settle + window with the window as its steady
-/// part), the flagellum's largest tilt in the steady window against the rate, at the
-/// 2 kThresholdWindowHalfWidth + 1 rates of the fixed grid kThresholdGridRatio^k rpm nearest the
-/// measured value (the window moving toward the crossing when it lies outside): the lowest rate
-/// where their tilt, averaged over three neighbouring rates and interpolated between them,
-/// reaches the criterion. It does not depend on where the window starts, moves continuously with
-/// the model and takes out most of the tilt's wobble with the rate. The window's runs use
-/// `threads` threads.
-double predictedThreshold(const SimulationConfig& cfg, double measured, int threads) {
-  // The window's runs on `threads` threads.
-  auto run_all = [&](const std::vector<double>& rates) {
-    std::vector<ThresholdProbe> made(rates.size());
-    parallelFor(static_cast<int>(rates.size()), threads,
-                [&](int i) { made[i] = runBucklingProbe(cfg, rates[i]); });
-    return made;
-  };
-  const WindowThreshold w = windowThreshold(
-      ProbeBatch(run_all), std::abs(measured) * units::kRpmPerRadPerSec, kThresholdGridRatio,
-      kThresholdWindowHalfWidth, cfg.buckling_tilt_deg, kThresholdWindowMoves);
-  if (!std::isfinite(w.threshold)) throw std::runtime_error("buckling threshold: " + w.message);
-  return w.threshold * units::kRadPerSecPerRpm;
+/// The model's buckling threshold [rad/s] for a measured one (docs/model.md 8.4.4, 8.4.5): the
+/// rate where the growth rate of the flagellum's slow tilt changes sign (findGrowthThreshold,
+/// runs of GrowthProbeOptions' default length in motor turns), bracketed from the measured value
+/// x/ kThresholdBracketRatio and narrowed to kThresholdTolerance. It moves smoothly with the
+/// model and does not depend on a run length chosen by the table (settle_time_s and window_s do
+/// not enter it).
+double predictedThreshold(const SimulationConfig& cfg, double measured, int /*threads*/) {
+  const double rpm = std::abs(measured) * units::kRpmPerRadPerSec;
+  GrowthThresholdOptions search;
+  search.low = rpm / kThresholdBracketRatio;
+  search.high = rpm * kThresholdBracketRatio;
+  search.min_rate = std::min(search.min_rate, search.low);
+  search.max_rate = std::max(search.max_rate, search.high);
+  search.tolerance = kThresholdTolerance;
+  const GrowthProbeOptions probe;
+  const GrowthThreshold g =
+      findGrowthThreshold([&](double rate) { return runGrowthProbe(cfg, rate, probe); }, search);
+  if (!g.found) throw std::runtime_error("buckling threshold: " + g.message);
+  return g.threshold * units::kRadPerSecPerRpm;
 }
 
 /// The model's value of a steady-state output from the simulation summary; false for an output

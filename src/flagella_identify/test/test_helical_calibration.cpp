@@ -64,7 +64,8 @@ TEST(HelicalCalibration, HeadDragFromAnUntetheredSpeedAndHeadRateTable) {
   EXPECT_DOUBLE_EQ(calibrated["C_t"].as<double>(), r.parameters[0].value);
 }
 
-/// A one-row gimbal threshold table (40 s runs: settle 20 s, window 20 s) holding `rpm`.
+/// A one-row gimbal threshold table holding `rpm` (the run length of the table does not enter
+/// the model's growth-rate threshold).
 MeasuredData gimbalThresholdTable(double rpm) {
   SteadyStateTable table;
   table.settle_time = 20.0;
@@ -81,43 +82,36 @@ MeasuredData gimbalThresholdTable(double rpm) {
 TEST(HelicalCalibration, RegularisationFromAGimbalBucklingThreshold) {
   const double true_ratio = 1.0;  // the default is sqrt(e) = 1.65
   const YAML::Node truth = coarseConfig("helical_gimbal.yaml", {"effects.rss.eps_ratio=1.0"});
-  // The truth's threshold by the calibration's own estimate (runs on a fixed rate grid around
-  // the measured value, docs/model.md 8.4.5), placed first around a bisection's threshold (8.4.4);
-  // placed again around that estimate it must not move: it does not depend on the placement.
-  SimulationConfig cfg = parseSimulationConfig(truth, "truth");
-  cfg.duration = 40.0;
-  cfg.steady_fraction = 0.5;
-  ThresholdSearchOptions search;
-  search.low = 4.0;
+  // The truth's threshold: where the growth rate of the slow tilt changes sign (docs/model.md
+  // 8.4.4), found by the tool's search; the evaluator's threshold searched from it must agree.
+  const SimulationConfig cfg = parseSimulationConfig(truth, "truth");
+  GrowthThresholdOptions search;
+  search.low = 2.0;
   search.high = 8.0;
-  search.tolerance = 0.3;
-  const ThresholdResult bisection =
-      findThreshold([&](double rpm) { return runBucklingProbe(cfg, rpm); }, search);
-  ASSERT_TRUE(bisection.found) << bisection.message;
+  const GrowthProbeOptions probe;
+  const GrowthThreshold direct =
+      findGrowthThreshold([&](double rpm) { return runGrowthProbe(cfg, rpm, probe); }, search);
+  ASSERT_TRUE(direct.found) << direct.message;
   const Model at_truth(truth, "truth", {"effects.rss.eps_ratio"});
   // The config's Newton tolerance (the evaluator's default 1e-7 is for smooth Jacobians; a
   // derivative-free fit does not need it and runs 1.5x faster without).
   EvaluatorOptions evaluator;
   evaluator.solver_tolerance = cfg.solver.residual_tolerance;
   evaluator.jobs = 2;  // the two first bracketing points at once
-  auto modelThreshold = [&](double measured_rpm) {
-    const MeasuredData data = gimbalThresholdTable(measured_rpm);
-    const Evaluation e = Evaluator(data, trainingOnlySplit(data), evaluator)
-                             .evaluate(at_truth, at_truth.values(), Part::kAll);
-    EXPECT_TRUE(e.ok) << e.failure;
-    return e.ok ? e.points.at(0).model * units::kRpmPerRadPerSec : 0.0;
-  };
-  const double rpm = modelThreshold(bisection.threshold);
-  std::printf("truth's threshold: bisection %.4f rpm, smoothed crossing %.4f rpm\n",
-              bisection.threshold, rpm);
-  ASSERT_DOUBLE_EQ(modelThreshold(rpm), rpm);
+  const MeasuredData data = gimbalThresholdTable(direct.threshold);
+  const Evaluation e = Evaluator(data, trainingOnlySplit(data), evaluator)
+                           .evaluate(at_truth, at_truth.values(), Part::kAll);
+  ASSERT_TRUE(e.ok) << e.failure;
+  const double rpm = e.points.at(0).model * units::kRpmPerRadPerSec;
+  std::printf("truth's threshold: %.4f +- %.4f rpm from 2-8 rpm, %.4f rpm from x/1.3 of it\n",
+              direct.threshold, direct.uncertainty, rpm);
+  EXPECT_NEAR(rpm, direct.threshold, 0.01 * direct.threshold);
   CalibrationOptions options;
   options.free = {"effects.rss.eps_ratio"};
   options.evaluator = evaluator;
   options.fit.progress = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
   const CalibrationResult r =
-      calibrate(gimbalThresholdTable(rpm), coarseConfig("helical_gimbal.yaml", {}),
-                "helical_gimbal.yaml", options);
+      calibrate(data, coarseConfig("helical_gimbal.yaml", {}), "helical_gimbal.yaml", options);
   EXPECT_EQ(r.fit.method, "Brent");
   ASSERT_EQ(r.parameters.size(), 1u);
   EXPECT_NEAR(r.start[0].value, std::sqrt(std::exp(1.0)), 1e-12);

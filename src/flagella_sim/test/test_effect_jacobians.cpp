@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "flagella_sim/core/geometry.h"
 #include "flagella_sim/effects/com_offset.h"
 #include "flagella_sim/effects/constant_load.h"
 #include "flagella_sim/effects/granular_jamming.h"
@@ -92,6 +93,53 @@ TEST(EffectJacobians, RftGranularWithInterfaceViscosityProfile) {
 TEST(EffectJacobians, StokesHeadDrag) {
   StokesHeadDrag e(2.42, 0.039, 0.02);
   expectJacobianMatchesFiniteDifferences(e, 5);
+  StokesHeadDrag sphere(2.42, 0.039, 0.02, 1.0);  // pitch and yaw resisted too
+  for (unsigned s : {5u, 16u}) expectJacobianMatchesFiniteDifferences(sphere, s);
+}
+
+// docs/model.md 3.1: a head turning rigidly about x_1 at Omega feels the torque -C_r 8 pi mu a^3
+// Omega about every axis when tilt_drag = 1 (a sphere), and about the spin axis alone when it is 0;
+// the head drag adds no net force to a pure rotation.
+TEST(HeadDrag, TorqueOfARigidRotationAboutEachAxisMatchesTheSphere) {
+  const RodNetwork net = testing::makeThreeTailRobot(4);
+  Medium medium;
+  medium.parameters().set("viscosity", 1.03);
+  const double C_r = 1.37, a = 0.018, dt = 1e-3, omega = 0.7;  // Omega dt = 7e-4 rad
+  const double k = C_r * 8.0 * M_PI * 1.03 * a * a * a;
+  const RobotParts& parts = net.parts;
+  const VecX q_start = net.restDofs();
+  const Vec3 centre = nodePosition(q_start, parts.head_center_node);
+  const Vec3 spin =
+      (nodePosition(q_start, parts.joint_node) - nodePosition(q_start, parts.head_front_node))
+          .normalized();
+  const Vec3 pitch = anyPerpendicular(spin), yaw = spin.cross(pitch);
+  for (double tilt_drag : {1.0, 0.0}) {
+    StokesHeadDrag e(1.8, C_r, a, tilt_drag);
+    e.attach(net);
+    for (const Vec3& n : {spin, pitch, yaw}) {
+      // x_0 and x_2 turned about n through x_1 by Omega dt; the head's twist by its spin part
+      VecX q = q_start;
+      const Eigen::AngleAxisd turn(omega * dt, n);
+      for (int node : {parts.head_front_node, parts.joint_node})
+        q.segment<3>(3 * node) = centre + turn * (nodePosition(q_start, node) - centre);
+      q(net.thetaIndex(parts.head_edge)) += omega * dt * n.dot(spin);
+      const ReferenceFrames fr = initialFrames(net, q);
+      VecX F = VecX::Zero(net.ndof());
+      e.addForce({net, q, fr, q_start, VecX::Zero(net.ndof()), dt, dt, medium, 1.03}, F, nullptr);
+      Vec3 torque = Vec3::Zero(), net_force = Vec3::Zero();
+      for (int node : {parts.head_front_node, parts.head_center_node, parts.joint_node}) {
+        torque += (nodePosition(q_start, node) - centre).cross(F.segment<3>(3 * node));
+        net_force += F.segment<3>(3 * node);
+      }
+      torque += F(net.thetaIndex(parts.head_edge)) * spin;  // the spin's generalised force
+      const double resisted = n == spin ? 1.0 : tilt_drag;
+      // a rotation by Omega dt in one step: the implicit rate is sin(Omega dt)/dt off the axis
+      const double rate = n == spin ? omega : std::sin(omega * dt) / dt;
+      EXPECT_LT((torque + resisted * k * rate * n).norm(), 1e-12 * k * omega)
+          << "tilt_drag " << tilt_drag << ", axis " << n.transpose();
+      EXPECT_LT(net_force.norm(), 1e-12 * k * omega / a);
+    }
+  }
 }
 
 TEST(EffectJacobians, InterfaceLateralForceIsNonSymmetric) {

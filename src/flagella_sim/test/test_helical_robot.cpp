@@ -40,15 +40,16 @@ constexpr char kConfigDir[] = FLAGELLA_CONFIG_DIR;
 constexpr char kRunExe[] = FLAGELLA_RUN_EXE;
 
 // docs/model.md 8.4.1 values, restated here independently of the HelicalGeometry defaults.
-constexpr double kHeadRadius = 0.018;         // R_H [m]
-constexpr double kHelixRadius = 0.018;        // R_t [m]
-constexpr double kPitch = 0.036;              // lambda [m]
-constexpr double kPitchCount = 3.5;           // L_t / lambda
-constexpr double kHookLength = 0.0188;        // L_h [m]
-constexpr double kEdgeLength = 5e-3;          // Dl [m]
-constexpr double kFilamentRadius = 1.584e-3;  // r0 [m]
-constexpr double kYoungsModulus = 1.225e6;    // E [Pa]
-constexpr double kDensity = 1240.0;           // rho [kg/m^3]
+constexpr double kHeadRadius = 0.018;                // R_H [m]
+constexpr double kHelixRadius = 0.018;               // R_t [m]
+constexpr double kPitch = 0.036;                     // lambda [m]
+constexpr double kPitchCount = 3.5;                  // L_t / lambda
+constexpr double kHookLength = 0.0188;               // L_h [m]
+constexpr double kEdgeLength = 5e-3;                 // Dl [m]
+constexpr double kFilamentRadius = 1.584e-3;         // r0 [m]
+constexpr double kShippedFilamentRadius = 2.989e-3;  // r0 of helical_robot.yaml [m]
+constexpr double kYoungsModulus = 1.225e6;           // E [Pa]
+constexpr double kDensity = 1240.0;                  // rho [kg/m^3]
 constexpr double kRigidFactor = 1000.0;
 constexpr int kHeadAndHookNodes = 5;  // x_0 .. x_4: the helix adds one node per edge
 
@@ -400,6 +401,8 @@ TEST(HelicalConfig, AxialLengthGivesThePitchCount) {
 // ---------------------------------------------------------------------------------------------
 
 TEST(HelicalConfig, ShippedRobotConfigParses) {
+  // the source's Shore 32 robot with the filament radius calibrated on its Shore 22 twin
+  constexpr double kFilamentRadius = kShippedFilamentRadius;
   const SimulationConfig c = loadSimulationConfig(shippedConfig("helical_robot.yaml"));
   ASSERT_TRUE(c.isHelical());
   const HelicalGeometry& g = c.helical;

@@ -1,6 +1,8 @@
 // flagella_buckling: the motor rate at which the helical robot's flagellum buckles (docs/model.md
-// 8.4.4), by bracketing and bisection over full runs; optionally swept over one config parameter
-// (CSV + plot).
+// 8.4.4): where the growth rate of its slow tilt changes sign (--method growth, the definition),
+// or where a run of fixed length first shows a large tilt (--method tilt, bracketing and
+// bisection; the secondary "visibly buckled within T s"); optionally swept over one config
+// parameter (CSV + plot).
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +20,7 @@
 #include "flagella_sim/runtime/exact_json.h"
 #include "flagella_sim/runtime/parallel_for.h"
 #include "flagella_sim/runtime/tool_main.h"
+#include "growth_report.h"
 #include "plot_command.h"
 
 namespace {
@@ -31,7 +34,12 @@ struct Options {
   std::string config;
   std::vector<std::string> overrides;
   ThresholdSearchOptions search;
+  std::string method = "growth";
+  flagella::GrowthProbeOptions growth;
+  double relative_tolerance = 0.01;
   std::string json, sweep, out_dir = "buckling_sweep", plot_script = FLAGELLA_BUCKLING_PLOT_SCRIPT;
+  std::string growth_plot_script = FLAGELLA_GROWTH_PLOT_SCRIPT;
+  bool out_given = false;  ///< --out given: a single growth search writes its table there
   int jobs = flagella::defaultJobs();
   int refine = 0;  ///< > 0: also the smoothed threshold over 2 refine + 1 grid rates
   bool quiet = false;
@@ -45,7 +53,21 @@ constexpr int kRefineMoves = 4;  ///< window moves toward a crossing outside it
 struct Search {
   ThresholdResult bisection;
   flagella::WindowThreshold refined;
+  flagella::GrowthThreshold growth;  ///< --method growth
 };
+
+bool usesGrowth(const Options& o) { return o.method == "growth"; }
+
+flagella::GrowthThresholdOptions growthSearch(const Options& o) {
+  flagella::GrowthThresholdOptions g;
+  g.low = o.search.low;
+  g.high = o.search.high;
+  g.min_rate = o.search.min_rate;
+  g.max_rate = o.search.max_rate;
+  g.tolerance = o.relative_tolerance;
+  g.max_runs = o.search.max_runs;
+  return g;
+}
 
 // A search as text, for the ranks of an MPI sweep (distributed_for.h); doubles exactly
 // (exact_json.h).
@@ -75,7 +97,8 @@ std::string encodeSearch(const Search& s) {
                         {"message", b.message},
                         {"refined_threshold", flagella::exactJson(s.refined.threshold)},
                         {"refined_runs", probesText(s.refined.runs)},
-                        {"refined_message", s.refined.message}}
+                        {"refined_message", s.refined.message},
+                        {"growth", flagella::cli::encodeGrowth(s.growth)}}
       .dump();
 }
 
@@ -91,6 +114,7 @@ Search decodeSearch(const std::string& text) {
   s.refined.threshold = flagella::exactNumber(j.at("refined_threshold"));
   s.refined.runs = probesFrom(j.at("refined_runs"));
   s.refined.message = j.at("refined_message").get<std::string>();
+  s.growth = flagella::cli::decodeGrowth(j.at("growth"));
   return s;
 }
 
@@ -162,6 +186,17 @@ void printRun(const std::string& prefix, const ThresholdProbe& p) {
 
 Search search(const SimulationConfig& c, const Options& o, const std::string& prefix) {
   static std::mutex print;  // one lock for every search: sweep threads print whole lines
+  if (usesGrowth(o)) {
+    Search s;
+    s.growth = flagella::findGrowthThreshold(
+        [&](double rpm) { return flagella::runGrowthProbe(c, rpm, o.growth); }, growthSearch(o),
+        [&](const flagella::GrowthProbe& p) {
+          if (o.quiet) return;
+          std::lock_guard<std::mutex> lock(print);
+          std::fprintf(stderr, "%s%s\n", prefix.c_str(), flagella::cli::growthRunLine(p).c_str());
+        });
+    return s;
+  }
   auto probe = [&](double rpm) { return flagella::runBucklingProbe(c, rpm); };
   auto progress = [&](const ThresholdProbe& p) {
     if (o.quiet) return;
@@ -176,8 +211,49 @@ Search search(const SimulationConfig& c, const Options& o, const std::string& pr
   return s;
 }
 
+void writeJson(const Options& o, const nlohmann::ordered_json& j) {
+  if (o.json.empty() || !flagella::isRootRank()) return;  // under mpirun every rank searches
+  std::ofstream out(o.json);
+  out << j.dump(2) << "\n";
+  if (!out) throw std::runtime_error("--json: cannot write " + o.json);
+  std::printf("wrote %s\n", o.json.c_str());
+}
+
+int singleGrowth(const Options& o, const SimulationConfig& c) {
+  if (!o.quiet)
+    std::fprintf(stderr, "threshold: %s\n", flagella::cli::growthDefinition(o.growth).c_str());
+  const Search s = search(c, o, "  ");
+  const flagella::GrowthThreshold& g = s.growth;
+  if (g.found)
+    std::printf(
+        "buckling threshold: %.3f +- %.3f rpm (sigma changes sign between %.3f and %.3f "
+        "rpm, %zu runs of %.4g flagellum turns)\n",
+        g.threshold, g.uncertainty, g.low, g.high, g.runs.size(), o.growth.observe_turns);
+  else
+    std::printf("no buckling threshold: %s\n", g.message.c_str());
+  for (const flagella::GrowthProbe& p : g.runs)  // runs at the threshold have sigma near 0
+    if (!p.failed && !p.trusted() &&
+        !(g.found && std::abs(p.rate - g.threshold) <= 2.0 * g.uncertainty))
+      std::printf("caution: the run at %.3f rpm is too short to trust its sign (--observe-turns)\n",
+                  p.rate);
+  nlohmann::ordered_json j = flagella::cli::growthJson(g, o.growth);
+  j["config"] = c.source;
+  writeJson(o, j);
+  if (o.out_given && flagella::isRootRank() && !g.runs.empty()) {
+    std::filesystem::create_directories(o.out_dir);
+    const std::string table = o.out_dir + "/growth_rates.csv";
+    flagella::cli::writeGrowthCsv(table, g);
+    std::printf("growth rates: %s\n", table.c_str());
+    if (!o.plot_script.empty())
+      flagella::cli::plotTable(o.growth_plot_script, table, o.out_dir + "/growth_rates.png",
+                               "growth-rate plot");
+  }
+  return g.found ? 0 : 3;
+}
+
 int single(const Options& o) {
   const SimulationConfig c = flagella::loadSimulationConfig(o.config, o.overrides);
+  if (usesGrowth(o)) return singleGrowth(o, c);
   if (!o.quiet) std::fprintf(stderr, "criterion: %s\n", criterion(c).c_str());
   const Search s = search(c, o, "  ");
   const ThresholdResult& r = s.bisection;
@@ -193,12 +269,7 @@ int single(const Options& o) {
     else
       std::printf("no smoothed threshold: %s\n", s.refined.message.c_str());
   }
-  if (!o.json.empty() && flagella::isRootRank()) {  // under mpirun every rank searches
-    std::ofstream out(o.json);
-    out << resultJson(c, s, o.refine).dump(2) << "\n";
-    if (!out) throw std::runtime_error("--json: cannot write " + o.json);
-    std::printf("wrote %s\n", o.json.c_str());
-  }
+  writeJson(o, resultJson(c, s, o.refine));
   return r.found ? 0 : 3;
 }
 
@@ -224,7 +295,10 @@ int sweep(const Options& o) {
     overrides.push_back(key + "=" + v);
     configs.push_back(flagella::loadSimulationConfig(o.config, overrides));
   }
-  if (!o.quiet) std::fprintf(stderr, "criterion: %s\n", criterion(configs.front()).c_str());
+  if (!o.quiet)
+    std::fprintf(stderr, "criterion: %s\n",
+                 usesGrowth(o) ? flagella::cli::growthDefinition(o.growth).c_str()
+                               : criterion(configs.front()).c_str());
   // On this rank's threads, or spread over mpirun's ranks (every rank gets every search).
   const std::vector<std::string> results =
       flagella::distributedFor(static_cast<int>(values.size()), o.jobs, [&](int i) {
@@ -234,7 +308,8 @@ int sweep(const Options& o) {
   int status = 0;  // 3 when a search found no threshold
   for (const std::string& r : results) {
     searches.push_back(decodeSearch(r));
-    if (!searches.back().bisection.found) status = 3;
+    if (!(usesGrowth(o) ? searches.back().growth.found : searches.back().bisection.found))
+      status = 3;
   }
   if (!flagella::isRootRank()) return status;  // rank 0 writes the table
   std::filesystem::create_directories(o.out_dir);
@@ -243,7 +318,16 @@ int sweep(const Options& o) {
   csv << "parameter,value,buckling_threshold_rpm,bracket_low_rpm,bracket_high_rpm,runs,found,"
          "message,smoothed_threshold_rpm\n";
   for (size_t i = 0; i < values.size(); ++i) {
-    const ThresholdResult& r = searches[i].bisection;
+    ThresholdResult r = searches[i].bisection;
+    if (usesGrowth(o)) {  // the same columns: the bracket is where sigma changes sign
+      const flagella::GrowthThreshold& g = searches[i].growth;
+      r.found = g.found;
+      r.threshold = g.threshold;
+      r.low = g.low;
+      r.high = g.high;
+      r.runs.assign(g.runs.size(), {});
+      r.message = g.message;
+    }
     const double refined = searches[i].refined.threshold;
     csv << key << "," << values[i] << "," << (r.found ? std::to_string(r.threshold) : "") << ","
         << (r.found ? std::to_string(r.low) : "") << "," << (r.found ? std::to_string(r.high) : "")
@@ -263,14 +347,35 @@ int sweep(const Options& o) {
 int main(int argc, char** argv) {
   const flagella::MpiScope mpi;  // under mpirun: --sweep spreads its searches over the ranks
   CLI::App app{
-      "flagella_buckling: the motor rate at which the flagellum buckles (bracketing + bisection)"};
+      "flagella_buckling: the motor rate at which the flagellum buckles (where its tilt's growth "
+      "rate changes sign)"};
   Options o;
   app.add_option("config", o.config, "simulation config (YAML), e.g. config/helical_gimbal.yaml")
       ->required();
   app.add_option("--set", o.overrides, "override a config field: section.field=value (repeatable)");
   app.add_option("--low", o.search.low, "first lower guess [rpm], > 0")->capture_default_str();
   app.add_option("--high", o.search.high, "first upper guess [rpm], > low")->capture_default_str();
-  app.add_option("--tolerance", o.search.tolerance, "stop when the bracket is narrower [rpm], > 0")
+  app.add_option("--method", o.method,
+                 "growth: where the growth rate of the slow tilt changes sign (the threshold); "
+                 "tilt: where a run of simulation.duration first shows a tilt above "
+                 "simulation.buckling_tilt_deg (visibly buckled within that time)")
+      ->check(CLI::IsMember({"growth", "tilt"}))
+      ->capture_default_str();
+  app.add_option("--observe-turns", o.growth.observe_turns,
+                 "growth: run length T in turns of the flagellum, > --settle-turns + 2")
+      ->capture_default_str();
+  app.add_option("--settle-turns", o.growth.settle_turns,
+                 "growth: the fit window starts here [flagellum turns], after the spin-up's "
+                 "transients")
+      ->capture_default_str();
+  app.add_option("--small-tilt", o.growth.small_tilt_deg,
+                 "growth: the fit window ends where the slow tilt passes this [deg], in (0, 45)")
+      ->capture_default_str();
+  app.add_option("--rel-tolerance", o.relative_tolerance,
+                 "growth: stop when the bracket is narrower than this fraction of the rate")
+      ->capture_default_str();
+  app.add_option("--tolerance", o.search.tolerance,
+                 "tilt: stop when the bracket is narrower [rpm], > 0")
       ->capture_default_str();
   app.add_option("--min-rpm", o.search.min_rate, "smallest rate tried [rpm]")
       ->capture_default_str();
@@ -280,7 +385,10 @@ int main(int argc, char** argv) {
   app.add_option("--json", o.json, "write the threshold, bracket, criterion and runs as JSON");
   app.add_option("--sweep", o.sweep,
                  "sweep mode: section.field=v1,v2,... (a threshold per value, CSV + plot)");
-  app.add_option("--out", o.out_dir, "sweep mode: output folder")->capture_default_str();
+  app.add_option("--out", o.out_dir,
+                 "output folder: the sweep's table and plot; a single growth search writes sigma "
+                 "against the rate there when given (growth_rates.csv, .png)")
+      ->capture_default_str();
   app.add_option("--jobs", o.jobs, "sweep mode: values searched in parallel, in [1, 256]")
       ->capture_default_str();
   app.add_option("--plot-script", o.plot_script, "sweep mode: matplotlib script ('' to skip)");
@@ -293,8 +401,14 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--quiet", o.quiet, "no progress lines");
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
+  o.out_given = app.count("--out") > 0;
   return flagella::cli::runGuarded([&] {
     flagella::validate(o.search);
+    if (usesGrowth(o)) {
+      flagella::validate(o.growth);
+      flagella::validate(growthSearch(o));
+      if (o.refine > 0) throw std::invalid_argument("--refine needs --method tilt");
+    }
     return o.sweep.empty() ? single(o) : sweep(o);
   });
 }

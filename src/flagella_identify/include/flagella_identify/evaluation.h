@@ -20,12 +20,11 @@ struct Split {
   std::vector<double> series_split_time;  ///< run time from which a series is held out [s]
 };
 
-/// A model's buckling threshold comes from runs at the rates this ratio^k rpm nearest the
-/// measured one (|k - k_measured| <= kThresholdWindowHalfWidth), the window moving at most
-/// kThresholdWindowMoves times toward the crossing (docs/model.md 8.4.5).
-constexpr double kThresholdGridRatio = 1.02;
-constexpr int kThresholdWindowHalfWidth = 4;
-constexpr int kThresholdWindowMoves = 8;  // 6 rates each: up to x1.02^48 = x2.6 from the data
+/// A model's buckling threshold is where the growth rate of its flagellum's slow tilt changes
+/// sign, searched from the measured value x/ this ratio to this relative tolerance
+/// (docs/model.md 8.4.4, 8.4.5).
+constexpr double kThresholdBracketRatio = 1.3;
+constexpr double kThresholdTolerance = 0.005;
 
 /// Held-out every `stride`-th row of each table in order of |omega_T| (so the held-out rows
 /// span the speed range), and the last `held_out_fraction` of each time series.

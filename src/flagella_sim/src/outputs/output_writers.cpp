@@ -19,7 +19,7 @@ std::ofstream openOrThrow(const std::string& path) {
 std::string trajectoryCsvHeader() {
   return "time,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz,head_axis_x,head_axis_y,"
          "head_axis_z,omega_h,omega_t,omega_T,speed,yaw,yaw_rate,head_angle,tail_angle,"
-         "newton_iterations,subdivided_steps,omega_motor";
+         "newton_iterations,subdivided_steps,omega_motor,flagellum_tilt";
 }
 
 void writeTrajectoryCsv(const std::string& path, const std::vector<TrajectorySample>& samples) {
@@ -32,7 +32,8 @@ void writeTrajectoryCsv(const std::string& path, const std::vector<TrajectorySam
         << "," << s.head_axis.x() << "," << s.head_axis.y() << "," << s.head_axis.z() << ","
         << s.omega_h << "," << s.omega_t << "," << s.omega_T << "," << s.head_velocity.norm() << ","
         << s.yaw << "," << s.yaw_rate << "," << s.head_angle << "," << s.tail_angle << ","
-        << s.newton_iterations << "," << s.subdivided_steps << "," << s.omega_motor << "\n";
+        << s.newton_iterations << "," << s.subdivided_steps << "," << s.omega_motor << ","
+        << s.flagellum_tilt << "\n";
   }
 }
 

@@ -47,15 +47,31 @@ std::vector<Vec3> helixCentreLine(const std::vector<Vec3>& nodes, double edges_p
   return centre;
 }
 
-double flagellumTilt(const VecX& q, const std::vector<int>& helix_nodes, double edges_per_turn,
-                     const Vec3& head_axis) {
+namespace {
+
+// Principal axis of the helix's centre line (of its nodes below about 1.05 turns), along t.
+Vec3 helixAxis(const VecX& q, const std::vector<int>& helix_nodes, double edges_per_turn,
+               const Vec3& t) {
   std::vector<Vec3> points;
   points.reserve(helix_nodes.size());
   for (int node : helix_nodes) points.push_back(nodePosition(q, node));
   const std::vector<Vec3> centre = helixCentreLine(points, edges_per_turn);
+  return principalAxis(centre.size() >= 2 ? centre : points, t);
+}
+
+}  // namespace
+
+double flagellumTilt(const VecX& q, const std::vector<int>& helix_nodes, double edges_per_turn,
+                     const Vec3& head_axis) {
   const Vec3 t = head_axis.normalized();
-  const Vec3 axis = principalAxis(centre.size() >= 2 ? centre : points, t);
-  return angleBetween(t, axis);
+  return angleBetween(t, helixAxis(q, helix_nodes, edges_per_turn, t));
+}
+
+Vec3 flagellumTiltVector(const VecX& q, const std::vector<int>& helix_nodes, double edges_per_turn,
+                         const Vec3& head_axis) {
+  const Vec3 t = head_axis.normalized();
+  const Vec3 axis = helixAxis(q, helix_nodes, edges_per_turn, t);
+  return axis - axis.dot(t) * t;
 }
 
 }  // namespace flagella

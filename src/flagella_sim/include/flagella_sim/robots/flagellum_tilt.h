@@ -22,4 +22,9 @@ std::vector<Vec3> helixCentreLine(const std::vector<Vec3>& nodes, double edges_p
 double flagellumTilt(const VecX& q, const std::vector<int>& helix_nodes, double edges_per_turn,
                      const Vec3& head_axis);
 
+/// The same axis's part perpendicular to the head axis, in world coordinates: its norm is the
+/// sine of flagellumTilt and it points where the flagellum leans (docs/model.md 8.4.4).
+Vec3 flagellumTiltVector(const VecX& q, const std::vector<int>& helix_nodes, double edges_per_turn,
+                         const Vec3& head_axis);
+
 }  // namespace flagella
