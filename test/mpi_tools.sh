@@ -16,9 +16,9 @@ mpi 2 "$bin/flagella_run" "${sweep[@]}" --out run2 > /dev/null
 diff run1/sweep.csv run2/sweep.csv || fail "flagella_run sweep differs under mpirun -np 2"
 [ "$(wc -l < run1/sweep.csv)" -eq 5 ] || fail "expected 4 rows"
 
-buckling=("$root/config/helical_gimbal.yaml" --set simulation.duration=1.5
-  --sweep robot.filament_radius=1.2e-3,1.584e-3,2e-3 --low 20 --high 80 --tolerance 15
-  --max-runs 5 --jobs 1 --plot-script '' --quiet)
+buckling=("$root/config/helical_gimbal.yaml" --set robot.edge_length=0.015
+  --sweep robot.filament_radius=1.2e-3,1.584e-3,2e-3 --low 2 --high 12 --rel-tolerance 0.3
+  --observe-turns 5 --settle-turns 2 --max-runs 5 --jobs 1 --plot-script '' --quiet)
 "$bin/flagella_buckling" "${buckling[@]}" --out buck1 > /dev/null || true  # exit 3: one not found
 mpi 3 "$bin/flagella_buckling" "${buckling[@]}" --out buck3 > /dev/null 2>&1 || true
 diff buck1/buckling_sweep.csv buck3/buckling_sweep.csv || fail "flagella_buckling --sweep differs under mpirun -np 3"
