@@ -8,6 +8,7 @@
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/robots/flagellum_tilt.h"
 #include "flagella_sim/simulation/simulation.h"
+#include "flagella_sim/solver/solver_failure.h"
 
 namespace flagella {
 
@@ -35,6 +36,7 @@ struct TiltRecord {
   double max_tilt = 0.0;     // [rad]
   double settle_time = 0.0;  // [s]
   double turn_period = 0.0;  // mean flagellum turn after settle_time [s]
+  std::string failure;       // the Newton failure that ended the record early, if any
 };
 
 TiltRecord recordTilt(Simulation& sim, double turns, double settle_turns, double interval,
@@ -50,7 +52,14 @@ TiltRecord recordTilt(Simulation& sim, double turns, double settle_turns, double
   double settle_angle = 0.0;
   bool settled = false;
   for (long k = 0;; ++k) {
-    if (k > 0) sim.step();
+    if (k > 0) {
+      try {
+        sim.step();
+      } catch (const SolverFailure& e) {  // the caller decides what the record still shows
+        r.failure = e.what();
+        return r;
+      }
+    }
     const RodState& s = sim.state();
     const double turned = std::abs(s.q(shaft_theta) - angle0);
     if (!settled && turned >= 2.0 * M_PI * settle_turns)
@@ -124,6 +133,22 @@ GrowthProbe runGrowthProbe(const SimulationConfig& config, double rpm,
         recordTilt(sim, o.observe_turns, o.settle_turns, motor_turn / o.samples_per_period,
                    kMaxTurnsPerMotorTurn * o.observe_turns * motor_turn);
     p.max_tilt_deg = units::radToDeg(r.max_tilt);
+    if (!r.failure.empty()) {
+      // Newton failed: in a flagellum already leaning past the small-tilt limit this is violent
+      // buckling, growing for sure (a bound from the rise to the largest tilt); else a failure
+      if (p.max_tilt_deg <= o.small_tilt_deg) throw std::runtime_error(r.failure);
+      p.saturated = true;
+      p.window_from = r.time.front();
+      p.window_to = r.time.back();
+      const double first = std::max(r.tilt[std::min<size_t>(1, r.tilt.size() - 1)].norm(), 1e-6);
+      p.sigma = std::max(
+          std::log(std::sin(r.max_tilt) / first) / std::max(p.window_to - p.window_from, c.dt),
+          1e-12);
+      p.error = "Newton failed after the tilt passed " + std::to_string(o.small_tilt_deg) +
+                " deg: counted as growing (" + r.failure + ")";
+      p.wall_seconds = secondsSince(t0);
+      return p;
+    }
     p.period = r.turn_period;
     const AmplitudeSeries slow = slowTiltAmplitude(r.time, r.tilt, p.period);
     const GrowthReading g =
