@@ -142,10 +142,6 @@ nlohmann::ordered_json runsJson(const std::vector<ThresholdProbe>& probes) {
   return runs;
 }
 
-nlohmann::ordered_json number(double x) {
-  return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
-}
-
 nlohmann::ordered_json resultJson(const SimulationConfig& c, const Search& s, int refine) {
   const ThresholdResult& r = s.bisection;
   nlohmann::ordered_json j;
@@ -163,7 +159,7 @@ nlohmann::ordered_json resultJson(const SimulationConfig& c, const Search& s, in
   j["runs"] = runsJson(r.runs);
   if (refine > 0) {
     nlohmann::ordered_json refined;
-    refined["smoothed_threshold_rpm"] = number(s.refined.threshold);
+    refined["smoothed_threshold_rpm"] = flagella::cli::finiteOrNull(s.refined.threshold);
     refined["definition"] =
         "lowest rate where the largest tilt, averaged over three neighbouring rates of the grid "
         "1.02^k rpm and interpolated in log rate, reaches the criterion; runs at the " +

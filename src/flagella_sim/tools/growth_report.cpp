@@ -11,10 +11,6 @@ namespace flagella::cli {
 
 namespace {
 
-nlohmann::ordered_json number(double x) {
-  return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
-}
-
 // The run length after which a run's sign is trusted (|sigma| >= 2 error), if its window's error
 // falls as window^-3/2 (a straight-line slope): window * (2 error / |sigma|)^(2/3).
 double trustedAfter(const GrowthProbe& p) {
@@ -24,6 +20,10 @@ double trustedAfter(const GrowthProbe& p) {
 }
 
 }  // namespace
+
+nlohmann::ordered_json finiteOrNull(double x) {
+  return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
+}
 
 std::string growthDefinition(const GrowthProbeOptions& o) {
   char text[512];
@@ -64,8 +64,8 @@ std::string growthRunLine(const GrowthProbe& p) {
 nlohmann::ordered_json growthJson(const GrowthThreshold& g, const GrowthProbeOptions& o) {
   nlohmann::ordered_json j;
   j["found"] = g.found;
-  j["buckling_threshold_rpm"] = number(g.threshold);
-  j["uncertainty_rpm"] = number(g.uncertainty);
+  j["buckling_threshold_rpm"] = finiteOrNull(g.threshold);
+  j["uncertainty_rpm"] = finiteOrNull(g.uncertainty);
   j["bracket_rpm"] = g.found ? nlohmann::ordered_json({g.low, g.high}) : nullptr;
   if (!g.found) j["message"] = g.message;
   nlohmann::ordered_json rule;
@@ -78,14 +78,14 @@ nlohmann::ordered_json growthJson(const GrowthThreshold& g, const GrowthProbeOpt
   for (const GrowthProbe& p : g.runs) {
     nlohmann::ordered_json r;
     r["omega_rpm"] = p.rate;
-    r["sigma_per_s"] = number(p.sigma);
-    r["sigma_error_per_s"] = number(p.sigma_error);
+    r["sigma_per_s"] = finiteOrNull(p.sigma);
+    r["sigma_error_per_s"] = finiteOrNull(p.sigma_error);
     r["window_s"] = {p.window_from, p.window_to};
     r["turn_period_s"] = p.period;
     r["saturated"] = p.saturated;
     r["decayed"] = p.decayed;
     r["trusted"] = p.trusted();
-    r["trusted_after_s"] = number(trustedAfter(p));
+    r["trusted_after_s"] = finiteOrNull(trustedAfter(p));
     r["max_tilt_deg"] = p.max_tilt_deg;
     r["wall_s"] = p.wall_seconds;
     r["failed"] = p.failed;

@@ -9,6 +9,8 @@
 
 namespace flagella::cli {
 
+/// A finite value as a JSON number, NaN or infinity as null (the tool's JSON for a missing value).
+nlohmann::ordered_json finiteOrNull(double x);
 /// The definition printed and stored with the threshold.
 std::string growthDefinition(const GrowthProbeOptions& o);
 /// One run as a progress line ("  4.000 rpm: sigma +0.0131 +- 0.0005 1/s -> growing ...").

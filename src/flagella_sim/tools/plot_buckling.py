@@ -10,7 +10,6 @@ with the final bracket as an error bar; values without a threshold are marked on
 Exit codes: 0 success, 1 output cannot be written, 2 bad command line or unusable input table.
 """
 
-import csv
 import sys
 
 import matplotlib
@@ -18,20 +17,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (backend must be selected first)
 
-EXIT_BAD_INPUT = 2
-EXIT_WRITE_FAILED = 1
+from plot_table import EXIT_BAD_INPUT, read_table, save  # noqa: E402
 
-
-def read_table(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    if not rows:
-        raise ValueError("no rows")
-    for column in ("parameter", "value", "buckling_threshold_rpm", "bracket_low_rpm",
-                   "bracket_high_rpm"):
-        if column not in rows[0]:
-            raise ValueError("missing column " + column)
-    return rows
+COLUMNS = ("parameter", "value", "buckling_threshold_rpm", "bracket_low_rpm", "bracket_high_rpm")
 
 
 def main(argv):
@@ -39,7 +27,7 @@ def main(argv):
         print(__doc__, file=sys.stderr)
         return EXIT_BAD_INPUT
     try:
-        rows = read_table(argv[1])
+        rows = read_table(argv[1], COLUMNS)
     except (OSError, ValueError) as e:
         print("plot_buckling.py: cannot use %s: %s" % (argv[1], e), file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -58,12 +46,7 @@ def main(argv):
     ax.grid(True, alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    try:
-        fig.savefig(argv[2], dpi=150)
-    except OSError as e:
-        print("plot_buckling.py: cannot write %s: %s" % (argv[2], e), file=sys.stderr)
-        return EXIT_WRITE_FAILED
-    return 0
+    return save(fig, argv[2], "plot_buckling.py", 150)
 
 
 if __name__ == "__main__":

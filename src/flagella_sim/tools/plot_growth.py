@@ -13,7 +13,6 @@ its uncertainty.
 Exit codes: 0 success, 1 output cannot be written, 2 bad command line or unusable input table.
 """
 
-import csv
 import sys
 
 import matplotlib
@@ -21,16 +20,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (backend must be selected first)
 
-EXIT_BAD_INPUT = 2
-EXIT_WRITE_FAILED = 1
+from plot_table import EXIT_BAD_INPUT, read_table, save  # noqa: E402
 
-
-def read_rows(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    if not rows:
-        raise ValueError("no rows")
-    return rows
+COLUMNS = ("omega_rpm", "sigma_per_s", "sigma_error_per_s", "saturated", "decayed", "trusted",
+           "threshold_rpm", "threshold_error_rpm")
 
 
 def main(argv):
@@ -38,7 +31,7 @@ def main(argv):
         print(__doc__, file=sys.stderr)
         return EXIT_BAD_INPUT
     try:
-        rows = read_rows(argv[1])
+        rows = read_table(argv[1], COLUMNS)
         rate = [float(r["omega_rpm"]) for r in rows]
         sigma = [float(r["sigma_per_s"]) for r in rows]
         error = [float(r["sigma_error_per_s"]) for r in rows]
@@ -67,12 +60,7 @@ def main(argv):
     ax.set_ylabel("sigma [1/s] (> 0: buckling grows)")
     ax.set_title(title)
     fig.tight_layout()
-    try:
-        fig.savefig(argv[2], dpi=120)
-    except OSError as e:
-        print(f"plot_growth.py: cannot write {argv[2]}: {e}", file=sys.stderr)
-        return EXIT_WRITE_FAILED
-    return 0
+    return save(fig, argv[2], "plot_growth.py", 120)
 
 
 if __name__ == "__main__":
