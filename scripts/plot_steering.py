@@ -3,11 +3,19 @@
 
 The left panel shows, in millimetres, the true head path (solid; for a single run coloured by
 controller mode), the controller's estimate (thin dashed), the numbered waypoints with their
-tolerance spheres and the start point. On the right: motor rate [rpm], slider position [mm] and
-head height [mm] against time [s].
+tolerance spheres and the start point. Beside it the top (x-y) and side (x-z) views, to scale,
+with the tolerance circles; on the right: motor rate [rpm], slider position [mm] and head height
+[mm] against time [s], from t = 0 (the start frame's course is measured while "waiting"). The
+buckle_turn mode is split into the buckle cycles (the motor off its cruise rate) and the cruise between them (waiting for the
+flagellum's phase), told apart by the motor rate.
 
   plot_steering.py RUN.csv [RUN2.csv ...] [--json RUN.json] --out PLOT.png
                    [--title TEXT] [--tolerance-mm 18]
+  plot_steering.py --bag STEERING.bag [--robot flagella] --out PLOT.png
+
+A bag recorded by launch/steering_3d.launch record:=true gives the same figure: the true path
+from rod_state, the estimate, mode, motor and slider commands from steering_status, the
+waypoints and their tolerance from waypoint_markers; misses are measured on the true path.
 
 Several CSVs are overlaid and labelled by file stem; --json belongs to the first run (the
 waypoints are the same for all). The tolerance comes from the JSON's "tolerance_mm" if it has
@@ -38,6 +46,8 @@ MODE_COLOURS = {
     "waiting": "tab:gray",
     "cruise": "tab:blue",
     "buckle_turn": "tab:orange",
+    "buckle cycle": "tab:orange",
+    "buckle_turn, waiting for phase": "gold",
     "mass_transformer": "tab:green",
     "finished": "tab:purple",
     "fault": "tab:red",
@@ -60,7 +70,23 @@ class Run:
         self.est_mm = np.column_stack([columns[k] for k in ("est_x", "est_y", "est_z")]) * MM
         self.rpm = columns["motor"] * RAD_S_TO_RPM
         self.slider_mm = columns["slider"] * MM
-        self.modes = modes
+        self.modes = split_buckle_turns(modes, self.rpm)
+
+
+def split_buckle_turns(modes, rpm, tolerance=0.05):
+    """buckle_turn samples at the cruise rate (the median rate of cruise samples) are the wait
+    for the flagellum's phase, the others the pulse itself."""
+    cruise = [abs(r) for m, r in zip(modes, rpm) if m == "cruise"]
+    if not cruise:
+        return list(modes)
+    rate = float(np.median(cruise))
+    split = []
+    for m, r in zip(modes, rpm):
+        if m == "buckle_turn":
+            m = ("buckle_turn, waiting for phase" if abs(abs(r) - rate) <= tolerance * max(rate, 1e-9)
+                 else "buckle cycle")
+        split.append(m)
+    return split
 
 
 def read_run(path):
@@ -105,6 +131,64 @@ def read_summary(path):
     if not isinstance(summary, dict):
         raise InputError("%s: expected a JSON object" % path)
     return summary
+
+
+def read_bag_run(path, robot, sample_interval=0.5):
+    """A Run and a summary from a recorded steering session; raises InputError on a bad bag."""
+    if not os.path.isfile(path):
+        raise InputError("%s: no such file" % path)
+    try:
+        import rosbag
+    except ImportError:
+        raise InputError("reading a bag needs ROS's rosbag module: run with /usr/bin/python3 "
+                         "after sourcing devel/setup.bash")
+    ns = "/" + robot + "/"
+    head, status, waypoints, tolerance = [], [], [], None
+    topics = [ns + "rod_state", ns + "steering_status", ns + "waypoint_markers"]
+    try:
+        with rosbag.Bag(path) as bag:
+            for topic, msg, _ in bag.read_messages(topics=topics):
+                if topic.endswith("rod_state"):
+                    p = msg.head_pose.position
+                    head.append((msg.header.stamp.to_sec(), p.x, p.y, p.z))
+                elif topic.endswith("steering_status"):
+                    e = msg.estimated_position
+                    status.append((msg.header.stamp.to_sec(), e.x, e.y, e.z, msg.motor_command,
+                                   msg.slider_command, msg.mode_name))
+                else:
+                    spheres = [m for m in msg.markers if m.ns == "waypoints"]
+                    waypoints = [(m.pose.position.x, m.pose.position.y, m.pose.position.z)
+                                 for m in sorted(spheres, key=lambda m: m.id)]
+                    if spheres:
+                        tolerance = 0.5 * spheres[0].scale.x
+    except Exception as e:  # rosbag raises several unrelated types for a bad file
+        raise InputError("%s: cannot read the bag (%s)" % (path, e))
+    if not head or not status:
+        raise InputError("%s: no rod_state or no steering_status of robot '%s' (record the "
+                         "session with launch/steering_3d.launch record:=true)" % (path, robot))
+    h = np.array([row[:4] for row in head])
+    kept, next_time = [], -math.inf
+    for row in status:  # the controller runs at the IMU's rate: one sample per interval
+        if row[0] >= next_time:
+            kept.append(row)
+            next_time = row[0] + sample_interval
+    t = np.array([row[0] for row in kept])
+    columns = {"time": t - h[0, 0]}
+    for k, axis in enumerate("xyz"):
+        columns[axis] = np.interp(t, h[:, 0], h[:, 1 + k])
+        columns["est_" + axis] = np.array([row[1 + k] for row in kept])
+    columns["motor"] = np.array([row[4] for row in kept])
+    columns["slider"] = np.array([row[5] for row in kept])
+    run = Run(os.path.splitext(os.path.basename(path))[0], columns, [row[6] for row in kept])
+    summary = {"mission": "%s (recorded session)" % os.path.basename(path),
+               "controller": "mass_transformer", "time_s": float(h[-1, 0] - h[0, 0])}
+    if waypoints:
+        w = np.array(waypoints)
+        misses = [float(np.min(np.linalg.norm(h[:, 1:] - p, axis=1))) * MM for p in w]
+        summary.update({"waypoints_m": w.tolist(), "tolerance_mm": tolerance * MM,
+                        "miss_mm": misses, "total": len(misses), "max_miss_mm": max(misses),
+                        "reached": sum(m <= tolerance * MM for m in misses)})
+    return run, summary
 
 
 def waypoints_mm(summary):
@@ -239,6 +323,36 @@ def plot_3d(ax, runs, points, tolerance_mm, misses):
     ax.legend(handles=handles, loc="upper left", fontsize=9)
 
 
+def plot_view(ax, runs, points, tolerance_mm, misses, axes_pair, title):
+    """A 2-D view to scale (equal aspect): paths, estimates, tolerance circles, start."""
+    i, j = axes_pair
+    names = "xyz"
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for k, run in enumerate(runs):
+        p, e = run.true_mm, run.est_mm
+        if len(runs) == 1:
+            for mode, a, b in mode_segments(run.modes):
+                ax.plot(p[a:b + 1, i], p[a:b + 1, j], color=MODE_COLOURS.get(mode, "black"),
+                        lw=1.6)
+        else:
+            ax.plot(p[:, i], p[:, j], color=colours[k % len(colours)], lw=1.6)
+        ax.plot(e[:, i], e[:, j], color="dimgray" if len(runs) == 1 else colours[k % len(colours)],
+                lw=0.7, ls="--")
+    for n, c in enumerate(points):
+        colour = waypoint_colour(n, misses, tolerance_mm)
+        ax.add_patch(plt.Circle((c[i], c[j]), tolerance_mm, fill=False, color=colour, lw=1.0))
+        ax.plot(c[i], c[j], "X", color=colour, ms=7)
+        ax.annotate(str(n + 1), (c[i], c[j]), textcoords="offset points", xytext=(4, 4),
+                    color=colour, fontsize=9, fontweight="bold")
+    start = runs[0].true_mm[0]
+    ax.plot(start[i], start[j], "o", color="black", ms=5)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("%s [mm]" % names[i])
+    ax.set_ylabel("%s [mm]" % names[j])
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, alpha=0.3)
+
+
 def plot_time_series(axes, runs):
     """Motor rate, slider position and height against time, one line per run."""
     series = [("motor [rpm]", lambda r: r.rpm), ("slider [mm]", lambda r: r.slider_mm),
@@ -256,37 +370,53 @@ def plot_time_series(axes, runs):
 
 
 def make_figure(runs, summary, tolerance_mm, title):
-    """The whole figure: the 3-D panel left, three stacked time plots right."""
-    fig = plt.figure(figsize=(14, 9), dpi=100)
-    grid = fig.add_gridspec(3, 2, width_ratios=[2.0, 1.0], wspace=0.12, hspace=0.3)
+    """The whole figure: the 3-D panel left, top and side views, three stacked time plots."""
+    fig = plt.figure(figsize=(18, 9), dpi=100)
+    grid = fig.add_gridspec(3, 3, width_ratios=[2.0, 1.2, 1.0], wspace=0.25, hspace=0.35)
     ax3d = fig.add_subplot(grid[:, 0], projection="3d")
     misses = (summary or {}).get("miss_mm") or []
-    plot_3d(ax3d, runs, waypoints_mm(summary), tolerance_mm, misses)
-    time_axes = [fig.add_subplot(grid[0, 1])]
-    time_axes += [fig.add_subplot(grid[i, 1], sharex=time_axes[0]) for i in (1, 2)]
+    points = waypoints_mm(summary)
+    plot_3d(ax3d, runs, points, tolerance_mm, misses)
+    plot_view(fig.add_subplot(grid[0:2, 1]), runs, points, tolerance_mm, misses, (0, 1),
+              "top view (circles: the tolerance, to scale)")
+    plot_view(fig.add_subplot(grid[2, 1]), runs, points, tolerance_mm, misses, (0, 2),
+              "side view")
+    time_axes = [fig.add_subplot(grid[0, 2])]
+    time_axes += [fig.add_subplot(grid[i, 2], sharex=time_axes[0]) for i in (1, 2)]
     plot_time_series(time_axes, runs)
     fig.suptitle(title, fontsize=13)
-    fig.subplots_adjust(left=0.02, right=0.97, top=0.91, bottom=0.07)
+    fig.subplots_adjust(left=0.02, right=0.98, top=0.91, bottom=0.07)
     return fig
 
 
 def parse_args(argv):
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("csv", nargs="+", help="flagella_steer --csv output (repeat to overlay)")
+    parser.add_argument("csv", nargs="*", help="flagella_steer --csv output (repeat to overlay)")
+    parser.add_argument("--bag", help="a session recorded by launch/steering_3d.launch record:=true")
+    parser.add_argument("--robot", default="flagella", help="robot namespace in the bag")
     parser.add_argument("--json", help="flagella_steer --json output of the first run")
     parser.add_argument("--out", required=True, help="PNG to write")
     parser.add_argument("--title", help="title line (default: the JSON's mission)")
     parser.add_argument("--tolerance-mm", type=float, default=18.0,
                         help="waypoint tolerance [mm] if the JSON has no tolerance_mm")
-    return parser.parse_args(argv)
+    args = parser.parse_args(argv)
+    if bool(args.csv) == bool(args.bag):
+        parser.error("give flagella_steer CSV files or one --bag, not both or neither")
+    if args.bag and args.json:
+        parser.error("--json belongs to a CSV run; a bag carries its own waypoints")
+    return args
 
 
 def main(argv=None):
     args = parse_args(argv)
     try:
-        runs = [read_run(path) for path in args.csv]
-        summary = read_summary(args.json) if args.json else None
+        if args.bag:
+            run, summary = read_bag_run(args.bag, args.robot)
+            runs = [run]
+        else:
+            runs = [read_run(path) for path in args.csv]
+            summary = read_summary(args.json) if args.json else None
     except InputError as e:
         print("plot_steering: %s" % e, file=sys.stderr)
         return 2

@@ -1,7 +1,13 @@
 #!/usr/bin/env bash
 # End-to-end check: "a recorded bag played into rviz under Xvfb renders the rods".
 #
-#   bash test/rviz_render.sh /work/main/devel/setup.bash
+#   bash test/rviz_render.sh /work/main/devel/setup.bash [steering]
+#
+# With "steering": the session is launch/steering_3d.launch record:=true (the helical robot, 40 s
+# of simulated time: the waypoints appear once the start frame's course is measured), the bag
+# must hold the rod and slider markers, the waypoints and /tf_static, and the replay is the
+# README's (rviz/steering_3d.rviz, as launch/replay.launch view:=steering_3d): the flagellum
+# (tail-0 colour) must render.
 #
 # 1. records a 3 s (simulated) session with launch/sim.launch (as fast as possible) into a bag;
 # 2. starts a private roscore (loopback, free port, temporary ROS_HOME, /use_sim_time true),
@@ -28,6 +34,7 @@
 set -u -o pipefail
 
 SETUP_BASH=${1:-}
+SESSION=${2:-sim}
 MIN_CHANGED_PIXELS=${MIN_CHANGED_PIXELS:-15000}
 MIN_TAIL_PIXELS=${MIN_TAIL_PIXELS:-2500}
 TAIL_RGB="rgb(242,115,26)"
@@ -123,8 +130,23 @@ wait_for() {
 [ -n "$SETUP_BASH" ] || fail "usage: $0 <devel>/setup.bash"
 [ -f "$SETUP_BASH" ] || fail "no such setup.bash: $SETUP_BASH"
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-SIM_LAUNCH=$REPO/launch/sim.launch
-RVIZ_CONFIG=$REPO/rviz/flagella.rviz
+case "$SESSION" in
+  sim)
+    SIM_LAUNCH=$REPO/launch/sim.launch
+    RVIZ_CONFIG=$REPO/rviz/flagella.rviz
+    LAUNCH_ARGS=(real_time_factor:=0 duration:=3)
+    BAG_TOPICS=(/flagella/markers)
+    RECORD_LIMIT=90
+    ;;
+  steering)
+    SIM_LAUNCH=$REPO/launch/steering_3d.launch
+    RVIZ_CONFIG=$REPO/rviz/steering_3d.rviz
+    LAUNCH_ARGS=(max_duration:=40)
+    BAG_TOPICS=(/flagella/markers /flagella/slider_marker /flagella/waypoint_markers /tf_static)
+    RECORD_LIMIT=240
+    ;;
+  *) fail "usage: $0 <devel>/setup.bash [sim|steering]" ;;
+esac
 [ -f "$SIM_LAUNCH" ] || fail "missing $SIM_LAUNCH"
 [ -f "$RVIZ_CONFIG" ] || fail "missing $RVIZ_CONFIG"
 for tool in Xvfb xwininfo setsid python3 "$IMPORT" "$CONVERT" "$COMPARE"; do
@@ -150,9 +172,9 @@ log "temp dir $TMP"
 BAG=$TMP/session.bag
 PORT=$(free_port) || fail "no free port"
 export ROS_MASTER_URI=http://localhost:$PORT
-log "recording 3 s of simulated time into $BAG (master port $PORT)"
-spawn "$TMP/record.log" timeout -s INT -k 10 90 \
-  roslaunch -p "$PORT" "$SIM_LAUNCH" real_time_factor:=0 duration:=3 record:=true bag:="$BAG"
+log "recording a $SESSION session (${LAUNCH_ARGS[*]}) into $BAG (master port $PORT)"
+spawn "$TMP/record.log" timeout -s INT -k 10 "$RECORD_LIMIT" \
+  roslaunch -p "$PORT" "$SIM_LAUNCH" "${LAUNCH_ARGS[@]}" record:=true bag:="$BAG"
 REC_PID=$LAST_PID
 wait "$REC_PID"
 REC_RC=$?
@@ -165,11 +187,14 @@ while [ -e "$BAG.active" ] && [ "$(date +%s)" -lt "$deadline" ]; do sleep 0.25; 
 [ -f "$BAG" ] || { tail -n 30 "$TMP/record.log"; fail "bag $BAG is missing (recording failed)"; }
 [ -s "$BAG" ] || fail "bag $BAG is empty"
 BAG_INFO=$(rosbag info "$BAG" 2>&1) || { echo "$BAG_INFO"; fail "rosbag info failed on $BAG"; }
-MARKER_MSGS=$(echo "$BAG_INFO" | awk '$1 == "/flagella/markers" {print $2}')
-if [ -z "$MARKER_MSGS" ] || [ "$MARKER_MSGS" -lt 1 ]; then
-  echo "$BAG_INFO"; fail "bag has no /flagella/markers messages"
-fi
-log "bag ok: $(du -k "$BAG" | cut -f1) kB, $MARKER_MSGS marker arrays"
+for topic in "${BAG_TOPICS[@]}"; do
+  MSGS=$(echo "$BAG_INFO" | awk -v t="$topic" '$1 == t {print $2}')
+  if [ -z "$MSGS" ] || [ "$MSGS" -lt 1 ]; then
+    echo "$BAG_INFO"; fail "bag has no $topic messages"
+  fi
+  log "bag has $MSGS messages on $topic"
+done
+log "bag ok: $(du -k "$BAG" | cut -f1) kB"
 
 # ---------------------------------------------------------------------------- 2. master, X, rviz
 PORT=$(free_port) || fail "no free port"
@@ -221,6 +246,15 @@ tail_pixels() {
   "$CONVERT" "$1" -alpha off -fuzz "$TAIL_FUZZ" -transparent "$TAIL_RGB" -alpha extract -negate \
     -precision 12 -format '%[fx:round(mean*w*h)]' info:
 }
+
+# number of pixels within fuzz $3 of colour $2
+colour_pixels() {
+  "$CONVERT" "$1" -alpha off -fuzz "$3" -transparent "$2" -alpha extract -negate \
+    -precision 12 -format '%[fx:round(mean*w*h)]' info:
+}
+WAYPOINT_RGB="rgb(100,74,42)"
+WAYPOINT_FUZZ="8%"
+MIN_WAYPOINT_PIXELS=${MIN_WAYPOINT_PIXELS:-3000}  # measured: 320-380 before they appear (the helix's shading), 12060 after
 
 # grey grid lines on the (48,48,48) background: (62..104, 62..104, 63..106); none before the
 # 3D view has rendered (measured ~16000 within 10% of (90,90,92) for the configured view)
@@ -292,5 +326,32 @@ rviz_alive
 log "RESULT blank->shot changed pixels: $best_changed (threshold $MIN_CHANGED_PIXELS)"
 log "RESULT tail-colour pixels: blank $BLANK_TAIL, shot $best_tail (threshold $MIN_TAIL_PIXELS)"
 [ "$passed" = 1 ] || fail "rods not rendered: changed $best_changed < $MIN_CHANGED_PIXELS or tail-colour $best_tail < $MIN_TAIL_PIXELS"
+
+# ---------------------------------------------------------------------------- 4. waypoints
+# A steering bag's waypoints appear once the controller has measured the start frame's course
+# (about 30 s into the session): the tolerance spheres, (1.0, 0.6, 0.1) at alpha 0.25 over the
+# (48,48,48) background, render near rgb(100,74,42). Shots until they are in view.
+if [ "$SESSION" = steering ]; then
+  best_wp=0
+  deadline=$(( $(date +%s) + 75 ))
+  i=0
+  while [ "$(date +%s)" -lt "$deadline" ]; do
+    rviz_alive
+    i=$((i + 1))
+    shoot "$TMP/wp_$i.png" || { sleep 1; continue; }
+    wp=$(colour_pixels "$TMP/wp_$i.png" "$WAYPOINT_RGB" "$WAYPOINT_FUZZ")
+    log "shot $i: waypoint-colour pixels $wp (min $MIN_WAYPOINT_PIXELS)"
+    if [ "${wp:-0}" -gt "$best_wp" ]; then
+      best_wp=${wp:-0}
+      cp -f "$TMP/wp_$i.png" "$TMP/waypoints.png"
+    fi
+    [ "$best_wp" -ge "$MIN_WAYPOINT_PIXELS" ] && break
+    sleep 2
+  done
+  rm -f "$TMP"/wp_*.png
+  BLANK_WP=$(colour_pixels "$TMP/blank.png" "$WAYPOINT_RGB" "$WAYPOINT_FUZZ")
+  log "RESULT waypoint-colour pixels: blank $BLANK_WP, best shot $best_wp (threshold $MIN_WAYPOINT_PIXELS)"
+  [ "$best_wp" -ge "$MIN_WAYPOINT_PIXELS" ] || fail "waypoints not rendered"
+fi
 RESULT=0
 log "PASS"

@@ -29,3 +29,44 @@ for cmd in "flagella_run run" "flagella_buckling" "flagella_follow_path" "flagel
   [[ "$out" == *"none.yaml"* ]] || fail "$cmd none.yaml: message does not name the file: $out"
 done
 echo "tool_arguments: $count tools: --help 0, unknown argument 2, missing config 2"
+# Bad input names the input that is wrong and exits 2 (README "Exit codes"; issue reproductions).
+expect_bad_input() {  # expect_bad_input WORDING COMMAND...
+  local wording=$1 status=0 out
+  shift
+  out=$("$@" 2>&1) || status=$?
+  [[ $status -eq 2 ]] || fail "$* exited $status (expected 2): $out"
+  [[ "$out" == *"$wording"* ]] || fail "$*: message does not say '$wording': $out"
+}
+cfg="$root/config"
+steer=("$bin/flagella_steer" --calibration "$cfg/calibration/helical_steering.yaml")
+expect_bad_input "needs a robot with a slider" "${steer[@]}" --config "$cfg/helical_robot.yaml" \
+  --waypoints "$cfg/paths/steering_demo.yaml"
+expect_bad_input "square.yaml" "${steer[@]}" --config "$cfg/helical_steering.yaml" \
+  --waypoints "$cfg/paths/square.yaml"
+expect_bad_input "needs a robot with a slider" "$bin/flagella_steer_robustness" \
+  --calibration "$cfg/calibration/helical_steering.yaml" --config "$cfg/helical_robot.yaml" \
+  --waypoints "$cfg/paths/steering_demo.yaml"
+run=("$bin/flagella_run" run "$cfg/helical_robot.yaml" --duration 0.05 --out "$work/bad")
+expect_bad_input "override 'robot.filament_radus=1e-3'" "${run[@]}" --set robot.filament_radus=1e-3
+expect_bad_input "override 'robot.filament_radius=0.02'" "${run[@]}" --set robot.filament_radius=0.02
+# The gains a user may set, with default, unit and meaning: one line per name --gain knows.
+gains=$("$bin/flagella_steer" --list-gains) || fail "flagella_steer --list-gains exited non-zero"
+for name in max_steer_offset turn_threshold steer_by_offset sensor_fault_timeout; do
+  [[ "$gains" == *"$name "* ]] || fail "--list-gains does not list $name: $gains"
+done
+status=0
+out=$("$bin/flagella_steer" --gain max_steer_offsett=1e-5 --config "$cfg/helical_steering.yaml" \
+  --waypoints "$cfg/paths/steering_demo.yaml" --calibration "$cfg/calibration/helical_steering.yaml" \
+  2>&1) || status=$?
+[[ $status -eq 2 && "$out" == *"unknown gain 'max_steer_offsett'"* ]] ||
+  fail "a misspelt --gain exited $status: $out"
+cat >"$work/bad_point.yaml" <<YAML
+sweep:
+  tool: run
+  config: $cfg/helical_robot.yaml
+  grid:
+    robot.filament_radius: [1.0e-3, 0.02]
+YAML
+expect_bad_input "point 1: override 'robot.filament_radius=0.02'" "$bin/flagella_sweep" run \
+  "$work/bad_point.yaml" --out "$work/bad_sweep"
+echo "tool_arguments: bad steering inputs, overrides and sweep points exit 2 naming the input"

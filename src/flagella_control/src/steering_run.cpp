@@ -130,6 +130,7 @@ struct RunView {
   std::function<SteeringMode()> mode;
   std::function<void(SteeringSample&)> annotate;  // the controller's estimates
   std::function<long()> cycles;
+  std::function<void(double)> progress;  // simulated time after each step
 };
 
 // Steps the session with `core` until it finishes or faults, scoring the true head path against
@@ -148,19 +149,22 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
   bool placed = false;
   SteeringMode last_mode = SteeringMode::Waiting;
   const auto after_step = [&]() {
+    if (view.progress) view.progress(session.time());
     const SteeringMode mode = view.mode();
     if (mode != last_mode) {
       result.modes.emplace_back(session.time(), mode);
       last_mode = mode;
     }
-    if (mode == SteeringMode::Waiting) return;
+    // While Waiting (the start frame's course being measured) the path is sampled, not scored.
+    const bool waiting = mode == SteeringMode::Waiting;
     const flagella::RodSnapshot s = session.snapshot();
-    if (!placed) {
+    if (!waiting && !placed) {
       result.waypoints = waypoints_of();
       placed = true;
     }
-    for (std::size_t i = 0; i < miss.size(); ++i)
-      miss[i] = std::min(miss[i], (s.head_position - result.waypoints[i]).norm());
+    if (!waiting)
+      for (std::size_t i = 0; i < miss.size(); ++i)
+        miss[i] = std::min(miss[i], (s.head_position - result.waypoints[i]).norm());
     if (session.time() + 1e-9 >= next_sample) {
       next_sample += sample_interval;
       SteeringSample sample;
@@ -169,7 +173,7 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
       sample.estimate = s.head_position;
       sample.forward = -(s.head_orientation * Vec3::UnitZ());
       sample.estimated_forward = sample.forward;
-      if (view.annotate) view.annotate(sample);
+      if (view.annotate && !waiting) view.annotate(sample);
       sample.motor = session.health().motor_applied;
       sample.slider = session.health().slider_position;
       sample.mode = mode;
@@ -199,8 +203,10 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
 SteeringRunResult runSteering(const flagella::SimulationConfig& config,
                               const flagella::SessionOptions& session_options,
                               MassTransformerController& controller, double max_duration,
-                              double sample_interval, std::vector<RecordedCommand>* recorded) {
+                              double sample_interval, std::vector<RecordedCommand>* recorded,
+                              const std::function<void(double)>& progress) {
   RunView view;
+  view.progress = progress;
   view.mode = [&]() { return controller.status().mode; };
   view.cycles = [&]() { return controller.status().cycles; };
   view.annotate = [&](SteeringSample& sample) {

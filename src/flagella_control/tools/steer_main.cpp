@@ -12,6 +12,7 @@
 
 #include "flagella_control/steering_run.h"
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/runtime/progress_printer.h"
 #include "flagella_sim/runtime/tool_main.h"
 #include "steering_cli.h"
 
@@ -26,7 +27,7 @@ int main(int argc, char** argv) {
   app.add_option("--model-error", errors_text,
                  "key=factor: scale a model value the calibration assumed (eps, E, C_t, C_r, l_0 "
                  "or section.field; repeatable)");
-  app.add_option("--seed", seed, "sensor noise seed");
+  app.add_option("--seed", seed, "sensor noise seed")->capture_default_str();
   app.add_option("--max-duration", max_duration,
                  "give up after this many simulated seconds (default: simulation.duration)");
   app.add_option("--json", json_path, "write the result as JSON");
@@ -36,16 +37,22 @@ int main(int argc, char** argv) {
     std::vector<std::pair<std::string, double>> errors;
     for (const std::string& e : errors_text)
       errors.push_back(flagella::control::cli::assignment(e, "--model-error", "key=factor"));
-    const flagella::SimulationConfig config = flagella::loadSimulationConfig(
-        inputs.config_path,
+    const flagella::SimulationConfig config = inputs.config(
         flagella::control::modelErrorOverrides(inputs.config_path, inputs.overrides, errors));
     const auto calibration = inputs.calibration();
     const auto mission = inputs.mission();
     flagella::control::MassTransformerController controller(mission, calibration, inputs.gains());
     const double duration = max_duration > 0.0 ? max_duration : config.duration;
+    flagella::ProgressPrinter printer(duration, false);
+    const auto progress = [&](double time) {
+      const auto& status = controller.status();
+      printer(time / duration, "waypoint " + std::to_string(status.reached) + " of " +
+                                   std::to_string(controller.mission().points.size()) +
+                                   " reached, " + flagella::control::steeringModeName(status.mode));
+    };
     const auto result = flagella::control::runSteering(
         config, flagella::control::steeringSessionOptions(config, calibration, seed), controller,
-        duration);
+        duration, 0.5, nullptr, progress);
     std::printf(
         "%s, %s schedule: %d of %d waypoints reached (tolerance %.1f mm), max miss %.1f mm, "
         "%s after %.1f s simulated (%.1f s wall), %ld buckle cycles\n",

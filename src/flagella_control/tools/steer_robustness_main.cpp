@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   app.add_option("--json", json_path, "write every run as JSON");
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
   return flagella::cli::runGuarded([&] {
+    inputs.config(inputs.overrides);  // refused early: no slider, bad fields
     options.config_path = inputs.config_path;
     options.overrides = inputs.overrides;
     const auto calibration = inputs.calibration();

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -15,6 +16,7 @@
 #include "flagella_control/steering_calibration.h"
 #include "flagella_control/waypoint_mission.h"
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/simulation/simulation_config.h"
 
 namespace flagella::control::cli {
 
@@ -40,6 +42,18 @@ inline std::pair<std::string, double> assignment(const std::string& text, const 
   return {text.substr(0, eq), number};
 }
 
+/// Runs `load`; its load errors (std::runtime_error in this package) become ConfigError.
+template <class Load>
+auto asBadInput(const Load& load) -> decltype(load()) {
+  try {
+    return load();
+  } catch (const std::invalid_argument&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw flagella::ConfigError(e.what());
+  }
+}
+
 struct SteeringInputs {
   std::string config_path, waypoints_path, calibration_path;
   std::vector<std::string> overrides;
@@ -60,13 +74,35 @@ struct SteeringInputs {
         ->check(CLI::ExistingFile);
     app.add_option("--set", overrides, "config override a.b=value (repeatable)");
     app.add_option("--schedule", schedule, "buckle schedule: relax or three_level")
+        ->capture_default_str()
         ->check(CLI::IsMember({"relax", "three_level"}));
     app.add_option("--gain", gain_settings,
-                   "controller gain name=value (repeatable; SteeringGains in "
-                   "mass_transformer_controller.h, e.g. max_steer_offset=8e-5)");
+                   "controller gain name=value (repeatable; --list-gains prints every gain with "
+                   "its default, unit and meaning; e.g. max_steer_offset=8e-5)");
+    app.add_flag_callback(
+        "--list-gains",
+        [] {
+          std::fputs(SteeringGains().table().c_str(), stdout);
+          throw CLI::Success();
+        },
+        "print every controller gain with its default, unit and meaning, and exit");
   }
-  SteeringCalibration calibration() const { return loadSteeringCalibration(calibration_path); }
-  WaypointMission mission() const { return loadWaypointMission(waypoints_path); }
+  /// The input files, loaded; a file that cannot be read as its kind is bad input (exit 2).
+  SteeringCalibration calibration() const {
+    return asBadInput([&] { return loadSteeringCalibration(calibration_path); });
+  }
+  WaypointMission mission() const {
+    return asBadInput([&] { return loadWaypointMission(waypoints_path); });
+  }
+  /// The robot config with the overrides; refused without a slider (the mass-transformer).
+  flagella::SimulationConfig config(const std::vector<std::string>& with_overrides) const {
+    flagella::SimulationConfig c = flagella::loadSimulationConfig(config_path, with_overrides);
+    if (!c.slider.enabled)
+      throw flagella::ConfigError(config_path +
+                                  ": the steering needs a robot with a slider: section (the "
+                                  "mass-transformer), as config/helical_steering.yaml");
+    return c;
+  }
   /// The default gains with the chosen schedule and the --gain settings (validated).
   SteeringGains gains() const {
     SteeringGains g;

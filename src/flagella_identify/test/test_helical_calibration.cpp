@@ -23,7 +23,7 @@ YAML::Node coarseConfig(const std::string& name, std::vector<std::string> overri
 }
 
 TEST(HelicalCalibration, HeadDragFromAnUntetheredSpeedAndHeadRateTable) {
-  const double true_ct = 1.2, true_cr = 2.0;  // the config has 1.8 and 1.37
+  const double true_ct = 1.2, true_cr = 2.0;  // the config has 1.512 and 1.664
   SteadyStateTable table;
   table.settle_time = 20.0;
   table.window = 20.0;

@@ -21,6 +21,7 @@
 #include "flagella_sim/core/yaml_fields.h"
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/effects/interface_lateral_force.h"
+#include "flagella_sim/simulation/problem_size.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
 #include "support/temp_dir.h"
@@ -548,6 +549,25 @@ TEST(Overrides, ErrorsBlameTheOverrideNotTheFile) {
   EXPECT_TRUE(contains(in_file, "line 2")) << in_file;
 }
 
+TEST(ConfigValidation, EffectKeysWithoutValueAreRefusedUnlessKnown) {
+  // `bogus:` under an effect, and a decimal comma in a flow map ({C_t: 1,5} reads as C_t: 1 and
+  // a key 5 without a value), were ignored; a known parameter without a value keeps its default.
+  const TempDir dir;
+  ConfigSections empty_key;
+  empty_key.effects += "    bogus:\n";
+  const std::string msg = loadError(dir.write("empty_key.yaml", empty_key.text()));
+  EXPECT_TRUE(contains(msg, "unknown parameter 'effects.stokes_head.bogus'")) << msg;
+  EXPECT_TRUE(contains(msg, "known: C_t, C_r")) << msg;
+  ConfigSections comma;
+  comma.effects = "effects:\n  stokes_head: {C_t: 1,5, C_r: 0.039}\n";
+  const std::string comma_msg = loadError(dir.write("comma.yaml", comma.text()));
+  EXPECT_TRUE(contains(comma_msg, "unknown parameter 'effects.stokes_head.5'")) << comma_msg;
+  ConfigSections known_null;
+  known_null.effects += "    head_radius:\n";
+  const SimulationConfig c = loadSimulationConfig(dir.write("known_null.yaml", known_null.text()));
+  EXPECT_FALSE(c.effects.empty());
+}
+
 TEST(Overrides, HugeValuesAreQuotedAbbreviated) {
   const std::string huge(100000, 'x');
   const std::string msg = loadError(shippedConfig(kDesign1), {"motor.mode=" + huge});
@@ -597,6 +617,52 @@ TEST(Overrides, OnAConfigThatIsNotAMapNameTheOverride) {
     const std::string msg = loadError(dir.write("not_a_map.yaml", text), {"robot.n_tails=3"});
     EXPECT_TRUE(contains(msg, "override 'robot.n_tails=3': the config is not a map of sections"))
         << msg;
+  }
+}
+
+TEST(Overrides, ErrorsNamingAnOverriddenFieldBlameTheOverride) {
+  // An unknown field given by --set, and a rule between two fields broken by an override,
+  // blamed the config file.
+  const std::string path = shippedConfig("helical_robot.yaml");
+  const std::string typo = loadError(path, {"robot.filament_radus=1e-3"});
+  EXPECT_EQ(typo.rfind("override 'robot.filament_radus=1e-3' (on " + path + "): ", 0), 0u) << typo;
+  const std::string rule = loadError(path, {"motor.omega_rpm=5", "robot.filament_radius=0.02"});
+  EXPECT_EQ(rule.rfind("override 'robot.filament_radius=0.02' (on " + path + "): robot.pitch", 0),
+            0u)
+      << rule;
+  // A prefix of a longer name is not a mention: robot.pitch is not robot.pitch_count.
+  const std::string other = loadError(path, {"robot.pitch=0.001", "robot.pitch_count=3"});
+  EXPECT_TRUE(contains(other, "override 'robot.pitch=0.001'")) << other;
+}
+
+TEST(ProblemSize, EstimateCountsTheNodesTheBuilderMakes) {
+  // The estimate is made before building: it must agree with what the builder then makes.
+  for (const char* name : {"helical_gimbal.yaml", "helical_shore22.yaml"}) {
+    for (const std::string pitches : {"2.5", "3.5", "4.5"}) {
+      const SimulationConfig c =
+          loadSimulationConfig(shippedConfig(name), {"robot.pitch_count=" + pitches});
+      const ProblemSize size = estimateProblemSize(c);
+      const Simulation sim(c);
+      EXPECT_NEAR(size.nodes, sim.network().numNodes(), 1) << name << " " << pitches;
+      EXPECT_NEAR(size.dofs, sim.network().ndof(), 4) << name << " " << pitches;
+    }
+  }
+  // No dense block: nothing estimated, nothing refused.
+  EXPECT_EQ(estimateProblemSize(loadSimulationConfig(shippedConfig(kDesign1))).nodes, 0);
+}
+
+TEST(ProblemSize, HelixInMetresIsRefusedWithItsFiguresAndTheOverride) {
+  // Millimetres given as metres: thousands of nodes; the dense model would need gigabytes or
+  // tens of seconds per step. Refused while loading, naming the override and the way out.
+  const std::string path = shippedConfig("helical_gimbal.yaml");
+  for (const std::string bad : {"robot.helix_radius=2.5", "robot.pitch=2.5"}) {
+    const std::string msg = loadError(path, {bad});
+    EXPECT_EQ(msg.rfind("override '" + bad + "'", 0), 0u) << msg;
+    EXPECT_TRUE(contains(msg, "nodes, dense blocks")) << msg;
+    EXPECT_TRUE(contains(msg, "per Newton update")) << msg;
+    EXPECT_TRUE(contains(msg, "solver.size_check=false")) << msg;
+    const SimulationConfig allowed = loadSimulationConfig(path, {bad, "solver.size_check=false"});
+    EXPECT_GT(estimateProblemSize(allowed).seconds_per_update, kMaxSecondsPerUpdate) << bad;
   }
 }
 

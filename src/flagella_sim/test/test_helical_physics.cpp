@@ -138,8 +138,9 @@ TEST(HelicalPhysics, ThresholdScalesAsYoungsModulusOverViscosity) {
 // Convergence in edge length (docs/model.md 4.3, 8.4.1): the swimming speed and head rate settle
 // as the edges shrink, the change from 7 -> 5 mm below 3/4 of the change from 10 -> 7 mm (measured:
 // about 1/2). On the thin filament of the gimbal sweep's middle (r0 = 1.584 mm, eps = 2.6 mm):
-// with the shipped robot's 2.989 mm (eps = 4.9 mm, about an edge) the speed moves by 0.9 % per
-// step at 10 -> 7 -> 5 mm without yet settling (README, known limitations).
+// with the shipped robot's r0 of about 3 mm (measured at 2.989 mm: eps = 4.9 mm, about an edge)
+// the speed moves by 0.9 % per step at 10 -> 7 -> 5 mm without yet settling (README, known
+// limitations).
 TEST(HelicalPhysics, SpeedConvergesInEdgeLength) {
   std::vector<double> speed, head;
   for (const char* dl : {"10e-3", "7e-3", "5e-3"}) {

@@ -393,7 +393,14 @@ int main(int argc, char** argv) {
          "also run the 2N+1 rates 1.02^k rpm nearest the threshold (N >= 2) and report where "
          "their tilt, averaged over neighbouring rates, crosses the criterion (the "
          "calibration's estimate; 0: off)")
-      ->check(CLI::Range(2, 20))
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            const int n = std::atoi(text.c_str());
+            return text == "0" || (n >= 2 && n <= 20 && std::to_string(n) == text)
+                       ? std::string()
+                       : "must be 0 (off) or an integer in [2, 20], got " + text;
+          },
+          "0 (off) or INT in [2, 20]"))
       ->capture_default_str();
   app.add_flag("--quiet", o.quiet, "no progress lines");
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;

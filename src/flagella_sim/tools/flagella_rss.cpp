@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "flagella_sim/hydro/rigid_helix.h"
 #include "flagella_sim/runtime/tool_main.h"
@@ -102,7 +103,26 @@ void writeJson(const HelixResistance& r, const std::string& handedness, const st
   if (!out) throw std::runtime_error("--json: cannot write " + path);
 }
 
+// Lengths are in metres; a robot of millimetres given in millimetres passes every range check
+// (or fails on the node count without saying why), so lengths above a metre get a warning.
+constexpr double kPlausibleLengthM = 1.0;
+
+void warnImplausibleLengths(const ResistanceOptions& o) {
+  const std::pair<const char*, double> lengths[] = {{"--helix-radius", o.spec.helix_radius},
+                                                    {"--pitch", o.spec.pitch},
+                                                    {"--axial-length", o.spec.axial_length},
+                                                    {"--filament-radius", o.spec.filament_radius},
+                                                    {"--eps", o.eps},
+                                                    {"--edge-length", o.edge_length}};
+  for (const auto& [option, value] : lengths)
+    if (value > kPlausibleLengthM)
+      std::cerr << "warning: " << option << " " << num(value)
+                << " m is more than a metre: lengths are in metres (" << num(value)
+                << " mm would be " << num(value * 1e-3) << ")\n";
+}
+
 int resistanceCommand(const ResistanceOptions& o) {
+  warnImplausibleLengths(o);
   const HelixResistance r = flagella::rss::helixResistance(o.spec, o.viscosity);
   printReport(r, o.handedness);
   if (!o.json.empty()) {

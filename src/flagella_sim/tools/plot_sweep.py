@@ -6,8 +6,9 @@ Usage: plot_sweep.py table.csv out.png [--title T]
 The CSV must have a header with at least the columns
     n_tails, omega_T_rpm, omega_h_rpm, omega_t_rpm, speed_mm_s
 (extra columns are ignored; empty cells are treated as missing values). The figure has two
-panels, swimming speed v and head rotation rate omega_h against the motor rate omega_T, with
-one line per number of tails.
+panels, swimming speed v (the summary's: slope of the displacement along the head's initial
+axis) and head rotation rate omega_h against the motor rate omega_T, with one line per number
+of tails. With a `buckled` column (1/0, helical robot), buckled runs are marked with a red x.
 
 Exit codes: 0 success, 1 output cannot be written, 2 bad command line or unusable input table.
 """
@@ -23,6 +24,7 @@ import matplotlib.pyplot as plt  # noqa: E402  (backend must be selected first)
 import numpy as np  # noqa: E402
 
 REQUIRED_COLUMNS = ("n_tails", "omega_T_rpm", "omega_h_rpm", "omega_t_rpm", "speed_mm_s")
+OPTIONAL_COLUMNS = ("buckled",)
 EXIT_BAD_INPUT = 2
 EXIT_WRITE_FAILED = 1
 FIGURE_SIZE_IN = (11.0, 4.5)
@@ -61,8 +63,9 @@ def read_table(path):
             raise TableError(
                 f"{path}: missing required column{'s' if len(missing) > 1 else ''} "
                 f"{', '.join(repr(m) for m in missing)} (header: {', '.join(header)})")
-        index = {name: header.index(name) for name in REQUIRED_COLUMNS}
-        columns = {name: [] for name in REQUIRED_COLUMNS}
+        wanted = REQUIRED_COLUMNS + tuple(n for n in OPTIONAL_COLUMNS if n in header)
+        index = {name: header.index(name) for name in wanted}
+        columns = {name: [] for name in wanted}
         for row in reader:
             if not any(cell.strip() for cell in row):
                 continue  # blank line
@@ -84,7 +87,7 @@ def plot(table, table_path, out_path, title):
     if not np.any(usable):
         raise TableError(f"{table_path}: no rows with both n_tails and omega_T_rpm present")
 
-    panels = (("speed_mm_s", "v (mm/s)", "Swimming speed"),
+    panels = (("speed_mm_s", "v along the initial head axis (mm/s)", "Swimming speed"),
               ("omega_h_rpm", r"$\omega_h$ (rpm)", "Head rotation rate"))
     fig, axes = plt.subplots(1, 2, figsize=FIGURE_SIZE_IN)
     for ax, (column, ylabel, panel_title) in zip(axes, panels):
@@ -95,6 +98,11 @@ def plot(table, table_path, out_path, title):
                 continue
             order = np.argsort(omega_T[sel], kind="stable")
             ax.plot(omega_T[sel][order], y[sel][order], "o-", label=tails_label(n))
+        if "buckled" in table:
+            marked = usable & np.isfinite(y) & (table["buckled"] == 1)
+            if np.any(marked):
+                ax.plot(omega_T[marked], y[marked], "x", color="tab:red", markersize=10,
+                        markeredgewidth=2, label="buckled (flagellum tilt > criterion)")
         ax.set_xlabel(r"$\omega_T$ (rpm)")
         ax.set_ylabel(ylabel)
         ax.set_title(panel_title)

@@ -19,6 +19,8 @@
 #include "flagella_sim/runtime/distributed_for.h"
 #include "flagella_sim/runtime/exact_json.h"
 #include "flagella_sim/runtime/parallel_for.h"
+#include "flagella_sim/runtime/progress_printer.h"
+#include "flagella_sim/simulation/problem_size.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "plot_command.h"
 #include "summary_json.h"
@@ -27,36 +29,11 @@ namespace flagella::cli {
 
 namespace {
 
-constexpr double kProgressPeriodSeconds = 2.0;
-
 using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
-
-// Prints "[ 42%] t = 84.0 / 200 s, 31x real time, ETA 4 s" at most every few seconds.
-class ProgressPrinter {
- public:
-  ProgressPrinter(double duration, bool quiet)
-      : duration_(duration), quiet_(quiet), start_(Clock::now()) {}
-  void operator()(double fraction) {
-    if (quiet_) return;
-    const double wall = secondsSince(start_);
-    if (wall - last_ < kProgressPeriodSeconds && fraction < 1.0) return;
-    last_ = wall;
-    const double rtf = wall > 0 ? fraction * duration_ / wall : 0.0;
-    const double eta = fraction > 0 ? std::max(0.0, wall * (1.0 - fraction) / fraction) : 0.0;
-    std::fprintf(stderr, "[%3.0f%%] t = %.1f / %.1f s, %.0fx real time, ETA %.0f s\n",
-                 100 * fraction, fraction * duration_, duration_, rtf, eta);
-  }
-
- private:
-  double duration_;
-  bool quiet_;
-  Clock::time_point start_;
-  double last_ = 0.0;
-};
 
 // "n = 2" for a multi-tail robot, "helical, 3.5 pitches" for the helical one.
 std::string robotLabel(const SimulationConfig& c) {
@@ -218,6 +195,8 @@ int runCommand(const RunOptions& o) {
   std::filesystem::create_directories(staging);
   const std::string staged = staging.string() + "/";
   StagingGuard staging_guard(staging);
+  const std::string size = describeProblemSize(estimateProblemSize(config));
+  if (!o.quiet && !size.empty()) std::fprintf(stderr, "size (estimate): %s\n", size.c_str());
   Simulation sim(config);
   sim.setRecordNodes(o.nodes);
   if (!o.quiet)

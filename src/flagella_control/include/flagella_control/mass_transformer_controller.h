@@ -146,6 +146,8 @@ struct SteeringGains {
   static std::vector<std::string> names();
   /// Reads a numeric gain by name (as `set`).
   double get(const std::string& name) const;
+  /// Every gain with its value, unit and meaning, a line each (steering_gains.cpp).
+  std::string table() const;
 };
 
 enum class SteeringMode : std::uint8_t {

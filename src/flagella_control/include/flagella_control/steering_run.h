@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -71,11 +72,13 @@ struct SteeringRunResult {
 
 /// Runs until the controller finishes or `max_duration` of simulated time. With `recorded`, the
 /// controller's commands are kept there (the open-loop schedule of runOpenLoop).
+/// `progress`, if set, is called after every step with the simulated time (for progress lines).
 SteeringRunResult runSteering(const flagella::SimulationConfig& config,
                               const flagella::SessionOptions& session_options,
                               MassTransformerController& controller, double max_duration,
                               double sample_interval = 0.5,
-                              std::vector<RecordedCommand>* recorded = nullptr);
+                              std::vector<RecordedCommand>* recorded = nullptr,
+                              const std::function<void(double)>& progress = {});
 
 /// Replays recorded commands open loop (no feedback) and scores the true path against
 /// `waypoints` (world) within `tolerance`, until the schedule ends or `max_duration`.

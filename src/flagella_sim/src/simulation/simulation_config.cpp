@@ -1,5 +1,6 @@
 #include "flagella_sim/simulation/simulation_config.h"
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -9,6 +10,7 @@
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/core/yaml_fields.h"
 #include "flagella_sim/effects/effect_registry.h"
+#include "flagella_sim/simulation/problem_size.h"
 
 namespace flagella {
 
@@ -119,6 +121,18 @@ void parseMedium(FieldReader r, SimulationConfig& c) {
   r.rejectUnknown();
 }
 
+// A key without a value under an effect (`bogus:`, or a decimal comma in a flow map such as
+// `{C_t: 1,5}`) is refused like a key with one.
+void requireKnownParameter(const EffectDescriptor& d, const std::string& key,
+                           const std::string& field) {
+  std::string known;
+  for (const ParameterSpec& p : d.parameters) {
+    if (p.name == key) return;
+    known += (known.empty() ? "" : ", ") + p.name;
+  }
+  throw ConfigError("unknown parameter '" + field + "' without a value (known: " + known + ")");
+}
+
 // The effect's descriptor gives its schema: structural options first, every remaining field
 // is a named parameter (its range is checked when the effect is built, see makeEffect).
 EffectSpec parseEffect(FieldReader r, const EffectDescriptor& d) {
@@ -131,7 +145,11 @@ EffectSpec parseEffect(FieldReader r, const EffectDescriptor& d) {
   }
   constexpr double kAnyFinite = std::numeric_limits<double>::max();
   for (const std::string& key : r.keys()) {
-    if (d.findOption(key) || !r.has(key)) continue;  // null: the default
+    if (d.findOption(key)) continue;
+    if (!r.has(key)) {  // null: the default of a known parameter; an unknown key is refused
+      requireKnownParameter(d, key, r.field(key));
+      continue;
+    }
     e.parameters.emplace_back(key, r.number(key, 0.0, -kAnyFinite, kAnyFinite));
   }
   return e;
@@ -219,6 +237,7 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
   o.extrapolate_initial_guess = r.flag("extrapolate_initial_guess", o.extrapolate_initial_guess);
   o.block_lu = r.choice("linear_solver", "block_lu", {"block_lu", "klu"}) == "block_lu";
   o.trace = r.flag("trace", o.trace);
+  c.size_check = r.flag("size_check", c.size_check);
   r.rejectUnknown();
   // Scale-aware convergence test (docs/model.md 1.10): forces against EI/L^2, moments against EI/L.
   const double EI = c.isHelical() ? c.helical.flagellum.EI() : c.geometry.tail_material.EI();
@@ -254,6 +273,7 @@ SimulationConfig parseSimulationConfig(const YAML::Node& root, const std::string
   top.rejectUnknown();
   const RobotDimensions robot = c.robotDimensions();
   for (const EffectSpec& spec : c.effects) makeEffect(spec, c.medium, robot);  // validates values
+  requireRunnableSize(c);
   return c;
 }
 
@@ -271,17 +291,37 @@ YAML::Node loadConfigTree(const std::string& path, const std::vector<std::string
 
 namespace {
 
+bool isNamePart(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.';
+}
+
+// Where `field` occurs in `message` as a whole dotted name (not a prefix of a longer one).
+size_t findWholeName(const std::string& message, const std::string& field) {
+  for (size_t at = message.find(field); at != std::string::npos; at = message.find(field, at + 1)) {
+    const size_t end = at + field.size();
+    if ((at == 0 || !isNamePart(message[at - 1])) &&
+        (end == message.size() || !isNamePart(message[end]) ||
+         (message[end] == '.' && (end + 1 == message.size() || !isNamePart(message[end + 1])))))
+      return at;
+  }
+  return std::string::npos;
+}
+
 // The source to blame for an error about a field: the last override that set it (a --set
-// value, a launch argument), else the file. Field errors start with the field's dotted name.
+// value, a launch argument), else the file. Field errors start with the field's dotted name;
+// an error that names an overridden field elsewhere (an unknown field, a rule between two
+// fields such as pitch > 2 filament_radius) blames that override too.
 std::string sourceOf(const std::string& message, const std::string& path,
                      const std::vector<std::string>& overrides) {
+  const std::string* named = nullptr;
   for (auto o = overrides.rbegin(); o != overrides.rend(); ++o) {
     const std::string field = o->substr(0, o->find('='));
-    if (!field.empty() && message.rfind(field, 0) == 0 &&
-        (message.size() == field.size() || message[field.size()] == ' ' ||
-         message[field.size()] == '['))
-      return "override '" + abbreviated(*o) + "' (on " + path + ")";
+    if (field.empty()) continue;
+    const size_t at = findWholeName(message, field);
+    if (at == 0) return "override '" + abbreviated(*o) + "' (on " + path + ")";
+    if (at != std::string::npos && !named) named = &*o;
   }
+  if (named) return "override '" + abbreviated(*named) + "' (on " + path + ")";
   return path;
 }
 

@@ -30,6 +30,8 @@ inline std::optional<int> parseArguments(CLI::App& app, int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
+  } catch (const CLI::Success&) {  // an option that answered and ends the tool (--list-gains)
+    return 0;
   } catch (const CLI::ParseError& e) {
     std::cerr << "error: " << e.what() << " (--help for the usage)\n";
     return kExitBadInput;

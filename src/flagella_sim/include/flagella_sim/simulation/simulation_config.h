@@ -25,7 +25,7 @@ struct MotorSpec {
 };
 
 struct SimulationConfig {
-  std::string source = "<inline>";  ///< file name, for messages
+  std::string source = "<inline>";        ///< file name, for messages
   std::string robot_name = "multi_tail";  ///< robot.type: multi_tail | helical
   MultiTailGeometry geometry;             ///< robot.type multi_tail (docs/model.md 8.1-8.3)
   HelicalGeometry helical;                ///< robot.type helical (docs/model.md 8.4)
@@ -42,6 +42,9 @@ struct SimulationConfig {
   /// Flagellum tilt above which a run counts as buckled [deg] (docs/model.md 8.4.4).
   double buckling_tilt_deg = 15.0;
   NewtonOptions solver;
+  /// solver.size_check: refuse configs whose dense blocks this machine cannot hold or step in
+  /// reasonable time (simulation/problem_size.h).
+  bool size_check = true;
 
   bool isHelical() const { return robot_name == "helical"; }
   /// The robot's sizes effects take their defaults from.
