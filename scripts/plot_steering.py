@@ -74,9 +74,10 @@ class Run:
 
 
 def split_buckle_turns(modes, rpm, tolerance=0.05):
-    """buckle_turn samples at the cruise rate (the median rate of cruise samples) are the wait
-    for the flagellum's phase, the others the pulse itself."""
-    cruise = [abs(r) for m, r in zip(modes, rpm) if m == "cruise"]
+    """buckle_turn samples at the cruise rate (the median rate of the cruise samples and of the
+    start frame's course measurement, 'waiting') are the wait for the flagellum's phase, the
+    others the buckle cycle itself."""
+    cruise = [abs(r) for m, r in zip(modes, rpm) if m in ("cruise", "waiting") and r != 0.0]
     if not cruise:
         return list(modes)
     rate = float(np.median(cruise))

@@ -289,7 +289,9 @@ ModelOutcome Identification::fitFrom(const std::vector<const Candidate*>& effect
   model.setValues(bestStartValues(first, model, effects, reference, out.evaluations));
   say("  fitting " + out.label + " (" + std::to_string(model.parameters().size()) + " parameters)" +
       (features ? " on the summary features" : ""));
-  const FitOptions options = fitOptionsFor(data_, options_.fit);
+  FitOptions options = fitOptionsFor(data_, options_.fit);
+  if (capping_singles_ && effects.size() == 1 && options_.single_fit_max_iterations > 0)
+    options.max_iterations = std::min(options.max_iterations, options_.single_fit_max_iterations);
   if (features) {
     const FitResult stage = fitModel(model, *features, options);
     out.evaluations += stage.evaluations;
@@ -428,7 +430,9 @@ void Identification::fitCandidates(IdentifyResult& result) {
       continue;
     }
     say("candidate " + c->name + ": " + c->title);
+    capping_singles_ = true;
     result.candidates.push_back(fitModelOutcome({c}, result.baseline));
+    capping_singles_ = false;
     result.total_evaluations += result.candidates.back().evaluations;
   }
   // docs/model.md 7.6: a baseline off its map may have dragged the candidates fitted from it off
@@ -513,8 +517,58 @@ void Identification::tryPairs(IdentifyResult& result, std::optional<ModelOutcome
       result.total_evaluations += combined.evaluations;
       result.combinations.push_back(combined);
     }
-    if (const ModelOutcome* best_pair = bestSignificant(result.combinations)) chosen = *best_pair;
+    if (const ModelOutcome* best_pair = bestSignificant(result.combinations)) {
+      chosen = *best_pair;
+      if (options_.pair_rule) checkPairAgainstItsSingle(result, chosen, first);
+    }
   }
+}
+
+void Identification::checkPairAgainstItsSingle(IdentifyResult& result,
+                                               std::optional<ModelOutcome>& chosen,
+                                               const ModelOutcome& first) {
+  // docs/model.md 7.6: no verdict may rest on a fit that stopped short of its optimum. The pair
+  // started from `first`; if the second effect only finished what the first one's fit left
+  // undone, the first effect alone, fitted from the pair's optimum, reaches the pair's bar.
+  const ModelOutcome pair = *chosen;
+  say("before naming " + pair.label + ": " + first.label +
+      " fitted again alone from the pair's optimum (the second effect off)");
+  ModelOutcome again = fitOnTraining({&candidateByName(first.effects[0])}, pair);
+  result.total_evaluations += again.evaluations;
+  if (again.fitted) judge(again, result.baseline);
+  if (!again.fitted) {
+    result.pair_check =
+        "the first effect alone could not be fitted again from the pair's "
+        "optimum (" +
+        again.note + "); the pair stands";
+    say("  " + result.pair_check);
+    return;
+  }
+  // The pair against the refit single: its held-out gain over it beyond the parsimony penalty
+  // and the critical value of the second effect's parameters (and, with cross validation, its
+  // drop of the training chi^2 too), as judge() tests any nested model.
+  const int extra = pair.extra_parameters - again.extra_parameters;
+  const double improvement = again.held_out_chi_square - pair.held_out_chi_square;
+  const double penalty = extra * std::log(static_cast<double>(std::max(2, pair.held_out_count)));
+  const double bar = penalty + chiSquareCritical(std::max(1, extra));
+  const double training_drop = again.train_chi_square - pair.train_chi_square;
+  const bool pair_needed = improvement > bar && (!folds_ || training_drop > bar);
+  result.pair_check =
+      first.label +
+      formatted(
+          " fitted again alone from the pair's optimum: held-out chi^2 %.4g "
+          "(first fit %.4g), the pair %.4g; the pair ",
+          again.held_out_chi_square, first.held_out_chi_square, pair.held_out_chi_square) +
+      (pair_needed
+           ? formatted("still lowers it by %.3g, more than the bar %.3g: named", improvement, bar)
+           : formatted("lowers it by only %.3g (the bar is %.3g): not named, the single "
+                       "effect is judged again",
+                       improvement, bar));
+  say("  " + result.pair_check);
+  if (pair_needed) return;
+  for (ModelOutcome& m : result.candidates)
+    if (m.label == again.label && again.train_chi_square < m.train_chi_square) m = again;
+  chosen = again.significant ? again : first;
 }
 
 namespace {
@@ -701,6 +755,7 @@ IdentifyResult Identification::run() {
     result.gain = 1.0 - chosen->held_out_rms_z / std::max(1e-300, d.rms_z);
   }
   decideVerdict(result, chosen);
+  if (!result.pair_check.empty()) result.summary += " Pair check: " + result.pair_check + ".";
   if (result.verdict == Verdict::kNamedCause)
     if (const ModelOutcome* rival = closestRival(result, *result.chosen))
       cannotTellBetween(result, *rival);

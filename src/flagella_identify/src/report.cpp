@@ -154,6 +154,7 @@ json reportJson(const IdentifyResult& r, const ReportInputs& inputs, const std::
   j["verdict"] = verdictText(r.verdict);
   j["named_causes"] = r.named;
   j["summary"] = r.summary;
+  j["pair_check"] = r.pair_check;  // docs/model.md 7.6: a pair against its first effect refit
   j["inputs"] = {{"data", inputs.data_files},
                  {"baseline_config", inputs.baseline_config},
                  {"command", inputs.command_line}};

@@ -31,6 +31,12 @@ struct IdentifyOptions {
   bool continuation = true;
   EvaluatorOptions evaluator;
   FitOptions fit;
+  /// Caps the iterations of the single candidates' first fits (0: fit.max_iterations). A
+  /// diagnostic: it shows what the pair rule (docs/model.md 7.6) does with a single fit that
+  /// stopped short of its optimum; the rule's own refit is never capped.
+  int single_fit_max_iterations = 0;
+  /// The pair rule itself (off: the pipeline without it, for before/after comparisons).
+  bool pair_rule = true;
   std::function<void(const std::string&)> progress;
 };
 
@@ -90,6 +96,9 @@ struct IdentifyResult {
   /// that would separate the ones they could not.
   std::vector<PowerCheck> power;
   std::vector<SuggestedMeasurement> suggestions;
+  /// The pair rule (docs/model.md 7.6): before a pair is named its first effect is fitted again
+  /// alone from the pair's optimum; what that gave, in words (empty when no pair was chosen).
+  std::string pair_check;
 };
 
 class Identification {
@@ -141,6 +150,11 @@ class Identification {
   /// mask a second effect, fits it paired with each other fitted candidate (into
   /// result.combinations) and replaces `chosen` by the best significant pair.
   void tryPairs(IdentifyResult& result, std::optional<ModelOutcome>& chosen);
+  /// The pair rule: `pair` (chosen over `first`) is kept only if it is still significant over
+  /// `first` fitted again alone from the pair's optimum (the second effect off); otherwise that
+  /// refit single effect is chosen. Says which in result.pair_check.
+  void checkPairAgainstItsSingle(IdentifyResult& result, std::optional<ModelOutcome>& chosen,
+                                 const ModelOutcome& first);
   /// With cross validation: the fewest rows any fold trains on.
   int fewestTrainingRows() const;
   void say(const std::string& line) const;
@@ -152,6 +166,7 @@ class Identification {
   Evaluator evaluator_;
   std::optional<CrossValidationPlan> folds_;  ///< set when the data are cross-validated
   double baseline_excess_ = 0.0;              ///< held-out chi^2 - N of the calibrated baseline
+  bool capping_singles_ = false;  ///< single_fit_max_iterations applies (fitCandidates only)
 };
 
 /// A model explains the discrepancy when it removes at least this share of the baseline's
