@@ -22,6 +22,7 @@
 #include "flagella_sim/runtime/tool_main.h"
 #include "growth_report.h"
 #include "plot_command.h"
+#include "tilt_report.h"
 
 namespace {
 
@@ -29,6 +30,11 @@ using flagella::SimulationConfig;
 using flagella::ThresholdProbe;
 using flagella::ThresholdResult;
 using flagella::ThresholdSearchOptions;
+using flagella::cli::criterion;
+using flagella::cli::decodeSearch;
+using flagella::cli::encodeSearch;
+using flagella::cli::resultJson;
+using flagella::cli::Search;
 
 struct Options {
   std::string config;
@@ -49,13 +55,6 @@ struct Options {
 constexpr double kRefineGridRatio = 1.02;
 constexpr int kRefineMoves = 4;  ///< window moves toward a crossing outside it
 
-/// A bisection's threshold and, with --refine, the straight-line crossing over runs around it.
-struct Search {
-  ThresholdResult bisection;
-  flagella::WindowThreshold refined;
-  flagella::GrowthThreshold growth;  ///< --method growth
-};
-
 bool usesGrowth(const Options& o) { return o.method == "growth"; }
 
 flagella::GrowthThresholdOptions growthSearch(const Options& o) {
@@ -67,109 +66,6 @@ flagella::GrowthThresholdOptions growthSearch(const Options& o) {
   g.tolerance = o.relative_tolerance;
   g.max_runs = o.search.max_runs;
   return g;
-}
-
-// A search as text, for the ranks of an MPI sweep (distributed_for.h); doubles exactly
-// (exact_json.h).
-nlohmann::json probesText(const std::vector<ThresholdProbe>& runs) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const ThresholdProbe& p : runs)
-    out.push_back({flagella::exactJson(p.rate), p.above, flagella::exactJson(p.indicator),
-                   flagella::exactJson(p.wall_seconds), p.failed, p.error});
-  return out;
-}
-
-std::vector<ThresholdProbe> probesFrom(const nlohmann::json& j) {
-  std::vector<ThresholdProbe> runs;
-  for (const nlohmann::json& r : j)
-    runs.push_back({flagella::exactNumber(r[0]), r[1].get<bool>(), flagella::exactNumber(r[2]),
-                    flagella::exactNumber(r[3]), r[4].get<bool>(), r[5].get<std::string>()});
-  return runs;
-}
-
-std::string encodeSearch(const Search& s) {
-  const ThresholdResult& b = s.bisection;
-  return nlohmann::json{{"found", b.found},
-                        {"threshold", flagella::exactJson(b.threshold)},
-                        {"low", flagella::exactJson(b.low)},
-                        {"high", flagella::exactJson(b.high)},
-                        {"runs", probesText(b.runs)},
-                        {"message", b.message},
-                        {"refined_threshold", flagella::exactJson(s.refined.threshold)},
-                        {"refined_runs", probesText(s.refined.runs)},
-                        {"refined_message", s.refined.message},
-                        {"growth", flagella::cli::encodeGrowth(s.growth)}}
-      .dump();
-}
-
-Search decodeSearch(const std::string& text) {
-  const nlohmann::json j = nlohmann::json::parse(text);
-  Search s;
-  s.bisection.found = j.at("found").get<bool>();
-  s.bisection.threshold = flagella::exactNumber(j.at("threshold"));
-  s.bisection.low = flagella::exactNumber(j.at("low"));
-  s.bisection.high = flagella::exactNumber(j.at("high"));
-  s.bisection.runs = probesFrom(j.at("runs"));
-  s.bisection.message = j.at("message").get<std::string>();
-  s.refined.threshold = flagella::exactNumber(j.at("refined_threshold"));
-  s.refined.runs = probesFrom(j.at("refined_runs"));
-  s.refined.message = j.at("refined_message").get<std::string>();
-  s.growth = flagella::cli::decodeGrowth(j.at("growth"));
-  return s;
-}
-
-std::string criterion(const SimulationConfig& c) {
-  std::ostringstream s;
-  s << "buckled when the largest angle between the head axis and the helix's principal axis over "
-       "the last "
-    << c.steady_fraction * 100.0 << " % of a " << c.duration << " s run exceeds "
-    << c.buckling_tilt_deg << " deg (simulation.buckling_tilt_deg)";
-  return s.str();
-}
-
-nlohmann::ordered_json runsJson(const std::vector<ThresholdProbe>& probes) {
-  nlohmann::ordered_json runs = nlohmann::ordered_json::array();
-  for (const ThresholdProbe& p : probes) {
-    nlohmann::ordered_json run;
-    run["omega_rpm"] = p.rate;
-    run["max_tilt_deg"] = p.indicator;
-    run["buckled"] = p.above;
-    run["wall_s"] = p.wall_seconds;
-    run["failed"] = p.failed;
-    run["error"] = p.error;
-    runs.push_back(run);
-  }
-  return runs;
-}
-
-nlohmann::ordered_json resultJson(const SimulationConfig& c, const Search& s, int refine) {
-  const ThresholdResult& r = s.bisection;
-  nlohmann::ordered_json j;
-  j["config"] = c.source;
-  j["found"] = r.found;
-  j["buckling_threshold_rpm"] = r.found ? nlohmann::ordered_json(r.threshold) : nullptr;
-  j["bracket_rpm"] = r.found ? nlohmann::ordered_json({r.low, r.high}) : nullptr;
-  if (!r.found) j["message"] = r.message;
-  nlohmann::ordered_json rule;
-  rule["definition"] = criterion(c);
-  rule["buckling_tilt_deg"] = c.buckling_tilt_deg;
-  rule["duration_s"] = c.duration;
-  rule["steady_fraction"] = c.steady_fraction;
-  j["criterion"] = rule;
-  j["runs"] = runsJson(r.runs);
-  if (refine > 0) {
-    nlohmann::ordered_json refined;
-    refined["smoothed_threshold_rpm"] = flagella::cli::finiteOrNull(s.refined.threshold);
-    refined["definition"] =
-        "lowest rate where the largest tilt, averaged over three neighbouring rates of the grid "
-        "1.02^k rpm and interpolated in log rate, reaches the criterion; runs at the " +
-        std::to_string(2 * refine + 1) +
-        " grid rates nearest the bisection threshold (the calibration's threshold)";
-    if (!s.refined.message.empty()) refined["message"] = s.refined.message;
-    refined["runs"] = runsJson(s.refined.runs);
-    j["refined"] = refined;
-  }
-  return j;
 }
 
 void printRun(const std::string& prefix, const ThresholdProbe& p) {
