@@ -189,6 +189,9 @@ bool solve(SimulationResiduals& cost, const Coordinates& coords, const FitOption
   ceres::Solve(so, &problem, &summary);
   result.iterations = static_cast<int>(summary.iterations.size());
   result.message = summary.message;
+  result.converged = summary.termination_type == ceres::CONVERGENCE;
+  if (!summary.iterations.empty())
+    result.gradient_max_norm = summary.iterations.back().gradient_max_norm;
   if (!summary.IsSolutionUsable()) {
     result.message = "the fit did not produce a usable solution: " + summary.message;
     return false;
@@ -253,6 +256,7 @@ bool solveAlongOne(SimulationResiduals& cost, const Model& model, const Evaluato
   const OneDimensionResult r = minimiseOneDimension(costs, u[0], chiSquare(start), o);
   result.iterations = r.evaluations;
   result.message = r.message;
+  result.converged = r.ok;  // bracketed and narrowed to its tolerance
   if (!r.ok) return false;
   u[0] = r.x;  // the best point seen, whose evaluation is `best`
   cost.prime(u, best);

@@ -312,6 +312,9 @@ ModelOutcome Identification::fitFrom(const std::vector<const Candidate*>& effect
   }
   out.fitted = true;
   out.note = fit.message;
+  out.iterations = fit.iterations;
+  out.converged = fit.converged;
+  out.gradient_max_norm = fit.gradient_max_norm;
   out.parameters = model.parameters();
   // the baseline's parameters: a candidate's variable at its "off" bound is the effect absent
   out.warnings = offTheMap(std::vector<FitParameter>(
@@ -756,6 +759,12 @@ IdentifyResult Identification::run() {
   }
   decideVerdict(result, chosen);
   if (!result.pair_check.empty()) result.summary += " Pair check: " + result.pair_check + ".";
+  if (result.chosen && !result.chosen->converged)
+    result.summary += formatted(
+        " Caution: the fit of the chosen model stopped after %.0f iterations without meeting its "
+        "convergence test (largest gradient component %.3g): its figures may be short of its "
+        "optimum.",
+        result.chosen->iterations, result.chosen->gradient_max_norm);
   if (result.verdict == Verdict::kNamedCause)
     if (const ModelOutcome* rival = closestRival(result, *result.chosen))
       cannotTellBetween(result, *rival);

@@ -80,7 +80,11 @@ json outcomeJson(const ModelOutcome& m) {
           {"penalty", m.penalty},
           {"critical", m.critical},
           {"significant", m.significant},
-          {"evaluations", m.evaluations}};
+          {"evaluations", m.evaluations},
+          {"fit_iterations", m.iterations},
+          {"fit_converged", m.converged},
+          {"fit_gradient_max_norm",
+           std::isfinite(m.gradient_max_norm) ? json(m.gradient_max_norm) : json(nullptr)}};
 }
 
 std::string parameterTable(const std::vector<FitParameter>& ps) {

@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,11 @@ struct FitResult {
   int evaluations = 0;  ///< model evaluations (each one simulates the training set)
   int iterations = 0;
   std::string method;  ///< "Levenberg-Marquardt" or "Brent"
+  /// The optimiser met its convergence test (false: it stopped at its iteration limit or
+  /// could not go on), and the largest gradient component at the end, in the fit coordinates
+  /// (NaN for Brent, which uses no gradient).
+  bool converged = false;
+  double gradient_max_norm = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// What puts a fitted parameter off its map (docs/model.md 7.6), one line each: ended within a

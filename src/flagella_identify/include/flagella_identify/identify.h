@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -65,6 +66,11 @@ struct ModelOutcome {
   double critical = 0.0;     ///< chi-square critical value (p = 1e-3) for the extras
   bool significant = false;  ///< improvement - penalty > critical
   int evaluations = 0;
+  /// How the last fit ended (docs/model.md 7.6: no verdict on a fit short of its optimum):
+  /// iterations, whether it met its convergence test, the largest gradient component.
+  int iterations = 0;
+  bool converged = false;
+  double gradient_max_norm = std::numeric_limits<double>::quiet_NaN();
   Evaluation held_out;  ///< the fitted model's held-out residuals
 };
 
