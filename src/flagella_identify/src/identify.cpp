@@ -363,10 +363,14 @@ void Identification::judge(ModelOutcome& out, const ModelOutcome& reference) {
     out.note = "the fitted model fails on the held-out experiments: " + out.held_out.failure;
     return;
   }
-  scoreHeldOut(out, reference, baseline_excess_);
+  scoreAgainst(out, reference);
   say(formatted("    held-out chi^2 %.4g over %.0f residuals (RMS z %.3g)", out.held_out_chi_square,
                 out.held_out_count, out.held_out_rms_z) +
       (folds_ ? formatted(", cross-validated over %.0f folds", folds_->folds.size()) : ""));
+}
+
+void Identification::scoreAgainst(ModelOutcome& out, const ModelOutcome& reference) const {
+  scoreHeldOut(out, reference, baseline_excess_);
   // docs/model.md 7.6: with cross validation the fit saw every row, so an effect in the data
   // lowers it too; a cross-validated gain without that is the folds' refits, not the effect
   const double training_drop = reference.train_chi_square - out.train_chi_square;
@@ -547,26 +551,24 @@ void Identification::checkPairAgainstItsSingle(IdentifyResult& result,
     say("  " + result.pair_check);
     return;
   }
-  // The pair against the refit single: its held-out gain over it beyond the parsimony penalty
-  // and the critical value of the second effect's parameters (and, with cross validation, its
-  // drop of the training chi^2 too), as judge() tests any nested model.
-  const int extra = pair.extra_parameters - again.extra_parameters;
-  const double improvement = again.held_out_chi_square - pair.held_out_chi_square;
-  const double penalty = extra * std::log(static_cast<double>(std::max(2, pair.held_out_count)));
-  const double bar = penalty + chiSquareCritical(std::max(1, extra));
-  const double training_drop = again.train_chi_square - pair.train_chi_square;
-  const bool pair_needed = improvement > bar && (!folds_ || training_drop > bar);
+  // The pair against the refit single, as judge() tests any nested model: its held-out gain
+  // beyond the parsimony penalty and the critical value of the second effect's parameters
+  // (and, with cross validation, its drop of the training chi^2 too).
+  ModelOutcome against = pair;
+  scoreAgainst(against, again);
+  const bool pair_needed = against.significant;
+  const double bar = against.penalty + against.critical;
   result.pair_check =
       first.label +
       formatted(
           " fitted again alone from the pair's optimum: held-out chi^2 %.4g "
           "(first fit %.4g), the pair %.4g; the pair ",
           again.held_out_chi_square, first.held_out_chi_square, pair.held_out_chi_square) +
-      (pair_needed
-           ? formatted("still lowers it by %.3g, more than the bar %.3g: named", improvement, bar)
-           : formatted("lowers it by only %.3g (the bar is %.3g): not named, the single "
-                       "effect is judged again",
-                       improvement, bar));
+      (pair_needed ? formatted("still lowers it by %.3g, more than the bar %.3g: named",
+                               against.improvement, bar)
+                   : formatted("lowers it by only %.3g (the bar is %.3g): not named, the single "
+                               "effect is judged again",
+                               against.improvement, bar));
   say("  " + result.pair_check);
   if (pair_needed) return;
   for (ModelOutcome& m : result.candidates)

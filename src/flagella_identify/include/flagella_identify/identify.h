@@ -140,6 +140,9 @@ class Identification {
   /// The held-out residuals of a fitted outcome (each fold's refit with cross validation) and
   /// the scores against `reference`; unfitted when they cannot be simulated.
   void judge(ModelOutcome& out, const ModelOutcome& reference);
+  /// The scores of `out` (held-out residuals already in it) against `reference`: noise test,
+  /// share explained and whether it is significant over `reference` (judge's test).
+  void scoreAgainst(ModelOutcome& out, const ModelOutcome& reference) const;
   Evaluation crossValidatedResiduals(const ModelOutcome& out, int& evaluations) const;
   /// The folds, from each row's information about the calibrated baseline's parameters.
   void planCrossValidation(const ModelOutcome& baseline, IdentifyResult& result);
