@@ -157,15 +157,18 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
     }
     // While Waiting (the start frame's course being measured) the path is sampled, not scored.
     const bool waiting = mode == SteeringMode::Waiting;
+    const bool sample_due = session.time() + 1e-9 >= next_sample;
+    if (waiting && !sample_due) return;
     const flagella::RodSnapshot s = session.snapshot();
-    if (!waiting && !placed) {
-      result.waypoints = waypoints_of();
-      placed = true;
-    }
-    if (!waiting)
+    if (!waiting) {
+      if (!placed) {
+        result.waypoints = waypoints_of();
+        placed = true;
+      }
       for (std::size_t i = 0; i < miss.size(); ++i)
         miss[i] = std::min(miss[i], (s.head_position - result.waypoints[i]).norm());
-    if (session.time() + 1e-9 >= next_sample) {
+    }
+    if (sample_due) {
       next_sample += sample_interval;
       SteeringSample sample;
       sample.time = session.time();
