@@ -46,6 +46,9 @@ expect_bad_input "square.yaml" "${steer[@]}" --config "$cfg/helical_steering.yam
 expect_bad_input "needs a robot with a slider" "$bin/flagella_steer_robustness" \
   --calibration "$cfg/calibration/helical_steering.yaml" --config "$cfg/helical_robot.yaml" \
   --waypoints "$cfg/paths/steering_demo.yaml"
+expect_bad_input "missing top-level 'path'" "$bin/flagella_follow_path" \
+  "$cfg/interface_path_planning.yaml" --path "$cfg/paths/steering_demo.yaml" \
+  --calibration "$cfg/calibration/interface_path_planning.yaml"
 run=("$bin/flagella_run" run "$cfg/helical_robot.yaml" --duration 0.05 --out "$work/bad")
 expect_bad_input "override 'robot.filament_radus=1e-3'" "${run[@]}" --set robot.filament_radus=1e-3
 expect_bad_input "override 'robot.filament_radius=0.02'" "${run[@]}" --set robot.filament_radius=0.02

@@ -7,13 +7,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/strict_yaml.h"
 #include "flagella_sim/core/text_lists.h"
 
 namespace flagella::control {
 namespace {
 
-[[noreturn]] void fail(const std::string& message) { throw std::runtime_error("path: " + message); }
+[[noreturn]] void fail(const std::string& message) { throw InputFileError("path: " + message); }
 
 double positiveLength(const YAML::Node& node, const std::string& field) {
   if (!node[field]) fail("'" + field + "' is required for this shape (a length in metres > 0)");
@@ -151,15 +152,15 @@ PathSpec loadPathSpec(const std::string& file) {
   try {
     root = loadStrictYamlFile(file, "path");
   } catch (const YamlInputError& e) {
-    throw std::runtime_error(e.what());  // this package's load errors are runtime errors
+    throw InputFileError(e.what());  // this package's load errors are runtime errors
   }
   try {
     if (!root["path"]) fail("missing top-level 'path' entry");
     return pathSpecFromYaml(root["path"]);
   } catch (const YAML::Exception& e) {
-    throw std::runtime_error(file + ": path: " + e.what());
+    throw InputFileError(file + ": path: " + e.what());
   } catch (const std::runtime_error& e) {
-    throw std::runtime_error(file + ": " + e.what());
+    throw InputFileError(file + ": " + e.what());
   }
 }
 

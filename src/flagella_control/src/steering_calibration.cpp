@@ -10,6 +10,7 @@
 #include "flagella_control/heading.h"
 #include "flagella_control/validation.h"
 #include "flagella_control/yaml_text.h"
+#include "flagella_sim/core/parameter_set.h"
 
 namespace flagella::control {
 
@@ -150,7 +151,7 @@ SteeringCalibration loadSteeringCalibration(const std::string& path) {
   try {
     c.validate();
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(path + ": " + e.what());
+    throw InputFileError(path + ": " + e.what());
   }
   return c;
 }

@@ -5,6 +5,7 @@
 
 #include "flagella_control/validation.h"
 #include "flagella_control/yaml_text.h"
+#include "flagella_sim/core/parameter_set.h"
 
 namespace flagella::control {
 
@@ -54,7 +55,7 @@ WaypointMission loadWaypointMission(const std::string& path) {
   try {
     mission.validate();
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(path + ": " + e.what());
+    throw InputFileError(path + ": " + e.what());
   }
   if (mission.description.empty())
     mission.description = std::to_string(mission.points.size()) + " waypoints";

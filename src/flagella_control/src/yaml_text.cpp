@@ -7,6 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/strict_yaml.h"
 
 namespace flagella::control {
@@ -66,16 +67,16 @@ YAML::Node loadSingleKeyFile(const std::string& path, const std::string& key,
   try {
     root = loadStrictYamlFile(path, what);
   } catch (const YamlInputError& e) {
-    throw std::runtime_error(e.what());  // this package's load errors are runtime errors
+    throw InputFileError(e.what());  // this package's load errors are runtime errors
   }
-  if (!root.IsMap()) throw std::runtime_error(path + ": expected a map with key '" + key + "'");
+  if (!root.IsMap()) throw InputFileError(path + ": expected a map with key '" + key + "'");
   for (const auto& entry : root) {
     const std::string name = entry.first.as<std::string>();
     if (name != key)
-      throw std::runtime_error(path + ": " + what + " field '" + name +
-                               "' is not a known field (expected only '" + key + "')");
+      throw InputFileError(path + ": " + what + " field '" + name +
+                           "' is not a known field (expected only '" + key + "')");
   }
-  if (!root[key]) throw std::runtime_error(path + ": " + what + " field '" + key + "' is missing");
+  if (!root[key]) throw InputFileError(path + ": " + what + " field '" + key + "' is missing");
   return root[key];
 }
 
@@ -85,7 +86,7 @@ MapReader::MapReader(const YAML::Node& node, std::string path, std::string file,
 }
 
 void MapReader::fail(const std::string& field, const std::string& what) const {
-  throw std::runtime_error(file_ + ": " + what_ + " field '" + field + "' " + what);
+  throw InputFileError(file_ + ": " + what_ + " field '" + field + "' " + what);
 }
 
 YAML::Node MapReader::get(const std::string& key) {

@@ -42,18 +42,6 @@ inline std::pair<std::string, double> assignment(const std::string& text, const 
   return {text.substr(0, eq), number};
 }
 
-/// Runs `load`; its load errors (std::runtime_error in this package) become ConfigError.
-template <class Load>
-auto asBadInput(const Load& load) -> decltype(load()) {
-  try {
-    return load();
-  } catch (const std::invalid_argument&) {
-    throw;
-  } catch (const std::runtime_error& e) {
-    throw flagella::ConfigError(e.what());
-  }
-}
-
 struct SteeringInputs {
   std::string config_path, waypoints_path, calibration_path;
   std::vector<std::string> overrides;
@@ -87,13 +75,9 @@ struct SteeringInputs {
         },
         "print every controller gain with its default, unit and meaning, and exit");
   }
-  /// The input files, loaded; a file that cannot be read as its kind is bad input (exit 2).
-  SteeringCalibration calibration() const {
-    return asBadInput([&] { return loadSteeringCalibration(calibration_path); });
-  }
-  WaypointMission mission() const {
-    return asBadInput([&] { return loadWaypointMission(waypoints_path); });
-  }
+  /// The input files, loaded; one that cannot be read as its kind throws InputFileError (exit 2).
+  SteeringCalibration calibration() const { return loadSteeringCalibration(calibration_path); }
+  WaypointMission mission() const { return loadWaypointMission(waypoints_path); }
   /// The robot config with the overrides; refused without a slider (the mass-transformer).
   flagella::SimulationConfig config(const std::vector<std::string>& with_overrides) const {
     flagella::SimulationConfig c = flagella::loadSimulationConfig(config_path, with_overrides);

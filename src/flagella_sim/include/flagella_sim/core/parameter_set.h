@@ -15,6 +15,14 @@ class ConfigError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+/// An input file that cannot be read as its kind (a path, a calibration, a waypoint mission):
+/// bad input like ConfigError (the tools exit 2), but a std::runtime_error, as the control
+/// package's load errors are.
+class InputFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 struct ParameterSpec {
   std::string name;
   double value = 0.0;

@@ -9,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/solver/solver_failure.h"
 
 namespace flagella::cli {
@@ -41,11 +42,14 @@ inline std::optional<int> parseArguments(CLI::App& app, int argc, char** argv) {
 
 /// Runs a tool's work (after its arguments are parsed, CLI11 having answered --help) and turns
 /// what it throws into a message on stderr and an exit code: invalid input (ConfigError, and
-/// any std::invalid_argument) 2, a solver failure 3, any other exception 1.
+/// any std::invalid_argument, or an InputFileError) 2, a solver failure 3, any other exception 1.
 inline int runGuarded(const std::function<int()>& body) {
   try {
     return body();
   } catch (const std::invalid_argument& e) {  // ConfigError and DataError included
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const InputFileError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitBadInput;
   } catch (const SolverFailure& e) {
