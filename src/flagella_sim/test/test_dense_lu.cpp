@@ -10,15 +10,12 @@
 
 #include "flagella_sim/core/dense_lu_solver.h"
 #include "flagella_sim/solver/dense_newton_system.h"
+#include "support/random_matrices.h"
 
 namespace flagella {
 namespace {
 
-MatX randomMatrix(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> g;
-  return MatX::NullaryExpr(n, n, [&] { return g(rng); });
-}
+using testing::randomMatrix;
 
 TEST(DenseLu, SolvesAndInvertsNonSymmetricSystems) {
   for (int n : {1, 7, 120}) {
@@ -71,7 +68,7 @@ SparseMatrix bandedJacobian(int n, const std::vector<bool>& fixed, unsigned seed
 struct InverseTerm {
   std::vector<int> dofs;
   MatX matrix;
-  DenseLuSolver lu;
+  LuFactoredMatrix factored;
   VecX weights;
   double scale;
 };
@@ -86,7 +83,7 @@ InverseTerm inverseTerm(int n, int m, unsigned seed) {
   term.matrix = 1e-2 * (MatX::Identity(m, m) * 4.0 + 0.3 * randomMatrix(m, seed + 1));
   std::uniform_real_distribution<double> u(0.5, 2.0);
   term.weights = VecX::NullaryExpr(m, [&] { return u(rng); });
-  EXPECT_TRUE(term.lu.factorize(term.matrix));
+  EXPECT_TRUE(term.factored.factorize(term.matrix));
   return term;
 }
 
@@ -145,7 +142,7 @@ TEST(DenseNewtonSystem, MatchesTheExplicitJacobianWithoutFormingTheInverse) {
     system.begin(S, fixed);
     if (c.dense_block) system.addDense(dense_dofs, dense_block, 1.0);
     for (const InverseTerm* t : terms)
-      system.addScaledInverse(t->dofs, t->matrix, t->lu, t->weights, t->scale);
+      system.addScaledInverse(t->dofs, t->factored, t->weights, t->scale);
     ASSERT_TRUE(system.factorize(1e-15));
     EXPECT_EQ(system.preconditioned(), c.expect_preconditioned);
 
@@ -177,7 +174,7 @@ TEST(DenseNewtonSystem, DefaultSinkFormsTheSameBlock) {
     }
   } capture;
   const InverseTerm t = inverseTerm(60, 24, 70);
-  capture.addScaledInverse(t.dofs, t.matrix, t.lu, t.weights, t.scale);
+  capture.addScaledInverse(t.dofs, t.factored, t.weights, t.scale);
   const MatX expected = -explicitJacobian(SparseMatrix(60, 60), {&t}, {}, MatX(), {});
   EXPECT_LT((capture.J - expected).norm(), 1e-10 * expected.norm());
 }

@@ -183,7 +183,9 @@ TEST(HelicalPhysics, MirroredRobotSwimsTheMirrorImagePath) {
     off_plane = std::max(off_plane, std::abs(a.y()));
     travelled = std::max(travelled, (a - left.front().head_position).norm());
     worst = std::max(worst, (Vec3(b.x(), -b.y(), b.z()) - a).norm());
-    EXPECT_NEAR(right[k].omega_h, -left[k].omega_h, 1e-9 * (1.0 + std::abs(left[k].omega_h)));
+    // 1e-8: the tolerance-driven choices of the solver (a rotated RSS factorisation reused or
+    // rebuilt, GMRES stopped at its target) see the two runs through different round-off
+    EXPECT_NEAR(right[k].omega_h, -left[k].omega_h, 1e-8 * (1.0 + std::abs(left[k].omega_h)));
   }
   EXPECT_GT(travelled, 1e-3);  // it swam (about 1.5 mm in 6 s)
   EXPECT_GT(off_plane, 1e-5);  // and left the mirror plane

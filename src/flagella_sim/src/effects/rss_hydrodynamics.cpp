@@ -11,6 +11,7 @@ RssHydrodynamics::RssHydrodynamics(double filament_radius, bool implicit)
       filament_radius_(filament_radius) {
   eps_ratio_ = parameterIndex("eps_ratio");
   eps_ = parameterIndex("eps", params_[eps_ratio_] * filament_radius);
+  reuse_tolerance_ = parameterIndex("reuse_tolerance");
   last_eps_ = params_[eps_];
   last_ratio_ = params_[eps_ratio_];
 }
@@ -32,6 +33,8 @@ namespace {
 // eps_ratio = sqrt(e): a line of regularized Stokeslets with eps = sqrt(e) r0 has the resistance of
 // a slender filament of radius r0 (docs/model.md 4.5).
 const double kDefaultEpsRatio = std::sqrt(std::exp(1.0));
+// Rigid reuse of the RSS factorisation (docs/model.md 4.4): see README, step cost.
+constexpr double kDefaultReuseTolerance = 1e-3;
 
 std::unique_ptr<RssHydrodynamics> makeRss(const EffectBuildContext& c) {
   if (!(c.medium.viscosity() > 0.0))
@@ -57,7 +60,11 @@ const EffectDescriptor& rssHydrodynamicsEffect() {
          "regularisation eps (default eps_ratio r0, docs/model.md 4.5)"},
         {"eps_ratio", kDefaultEpsRatio, 0.05, 20.0, "",
          "eps / robot.filament_radius, used unless eps is given (default sqrt(e), docs/model.md "
-         "4.5; the value a gimbal threshold table calibrates)"}};
+         "4.5; the value a gimbal threshold table calibrates)"},
+        {"reuse_tolerance", kDefaultReuseTolerance, 0.0, 0.1, "",
+         "a step reuses the factored RSS matrix, rotated, while the nodes are a rigid motion of "
+         "those it was built at to within this fraction of eps (docs/model.md 4.4); 0: rebuilt "
+         "every step"}};
     e.default_rules = {{"eps", "eps_ratio robot.filament_radius"}};
     e.exclusive_parameters = {{"eps", "eps_ratio"}};
     e.make = [](const EffectBuildContext& c) -> EffectPtr { return makeRss(c); };
@@ -94,9 +101,11 @@ void RssHydrodynamics::beginStep(const StepStart& start) {
   rss::Polyline polyline;
   for (int node : nodes_) polyline.push_back(nodePosition(start.state.q, node));
   try {
-    if (solver_)
-      solver_->update(polyline, segments_, currentEps(), start.viscosity);  // storage reused
-    else
+    if (solver_) {  // storage reused
+      reused_ += solver_->updateOrReuse(polyline, segments_, currentEps(), start.viscosity,
+                                        params_[reuse_tolerance_]);
+      ++steps_;
+    } else
       solver_.emplace(polyline, segments_, currentEps(), start.viscosity);
     if (!implicit_)
       explicit_force_ = solver_->nodalForces(gather(start.state.qdot));  // docs/model.md 4.4 A
@@ -119,8 +128,7 @@ void RssHydrodynamics::addForce(const EffectContext& ctx, VecX& force,
 void RssHydrodynamics::addDenseJacobian(const EffectContext& ctx, DenseJacobianSink& sink) const {
   if (!solver_) throw std::logic_error("effects.rss: Jacobian asked before beginStep");
   // dF/dx = -K/dt = -(1/dt) diag(8 pi mu l_p) Ablk^{-1} (docs/model.md 4.4 B)
-  sink.addScaledInverse(dofs_, solver_->matrix(), solver_->factorisation(),
-                        solver_->dragRowWeights(), -1.0 / ctx.dt);
+  sink.addScaledInverse(dofs_, *solver_, solver_->dragRowWeights(), -1.0 / ctx.dt);
 }
 
 }  // namespace flagella

@@ -4,6 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "flagella_sim/core/rigid_fit.h"
 #include "flagella_sim/core/units.h"
 
 namespace flagella::rss {
@@ -32,12 +33,67 @@ void RssSolver::update(const Polyline& nodes, const Segments& segments, double e
                        double viscosity) {
   mu_ = checkedViscosity(viscosity);
   eps_ = eps;
+  rotated_ = false;
+  rotated_matrix_valid_ = false;
+  deviation_ = 0.0;
+  factored_nodes_.clear();  // unusable for reuse until the factorisation succeeds
   assembleRssMatrix(nodes, segments, eps, ablk_);
   lengths_ = rss::voronoiLengths(nodes, segments);
   if (!lu_.factorize(ablk_))
     throw std::invalid_argument("the RSS matrix is singular (reciprocal condition " +
                                 std::to_string(lu_.rcond()) +
                                 "): nodes too close for this eps, or eps too small");
+  const Vec3 centroid = centroidOf(nodes);
+  factored_nodes_.resize(nodes.size());
+  for (size_t i = 0; i < nodes.size(); ++i) factored_nodes_[i] = nodes[i] - centroid;
+  segments_ = segments;
+}
+
+bool RssSolver::updateOrReuse(const Polyline& nodes, const Segments& segments, double eps,
+                              double viscosity, double tolerance) {
+  if (!(tolerance > 0.0) || eps != eps_ || segments != segments_ ||
+      nodes.size() != factored_nodes_.size()) {
+    update(nodes, segments, eps, viscosity);
+    return false;
+  }
+  validatePolyline(nodes, segments, eps);
+  const RigidFit fit = bestRigidFit(factored_nodes_, nodes);
+  if (!(fit.deviation <= tolerance * eps)) {
+    update(nodes, segments, eps, viscosity);
+    return false;
+  }
+  mu_ = checkedViscosity(viscosity);
+  lengths_ = rss::voronoiLengths(nodes, segments);
+  rotation_ = fit.rotation;
+  rotated_ = true;
+  rotated_matrix_valid_ = false;
+  deviation_ = fit.deviation;
+  return true;
+}
+
+const MatX& RssSolver::matrix() const {
+  if (!rotated_) return ablk_;
+  if (!rotated_matrix_valid_) {
+    // Q Ablk(y) Q^T, 3x3 block by block (docs/model.md 4.4)
+    const int m = nodeCount();
+    rotated_matrix_.resize(3 * m, 3 * m);
+    for (int c = 0; c < m; ++c)
+      for (int r = 0; r < m; ++r)
+        rotated_matrix_.block<3, 3>(3 * r, 3 * c) =
+            rotation_ * ablk_.block<3, 3>(3 * r, 3 * c) * rotation_.transpose();
+    rotated_matrix_valid_ = true;
+  }
+  return rotated_matrix_;
+}
+
+VecX RssSolver::solveCurrent(const VecX& v) const {
+  if (!rotated_) return lu_.solve(v);
+  VecX local(v.size());
+  for (int p = 0; p < nodeCount(); ++p)
+    local.segment<3>(3 * p) = rotation_.transpose() * v.segment<3>(3 * p);
+  VecX x = lu_.solve(local);
+  for (int p = 0; p < nodeCount(); ++p) x.segment<3>(3 * p) = rotation_ * x.segment<3>(3 * p);
+  return x;
 }
 
 void RssSolver::checkSize(const VecX& velocities) const {
@@ -49,7 +105,7 @@ void RssSolver::checkSize(const VecX& velocities) const {
 
 VecX RssSolver::forceDensities(const VecX& velocities) const {
   checkSize(velocities);
-  return 8.0 * units::pi * mu_ * lu_.solve(velocities);  // docs/model.md 4.3
+  return 8.0 * units::pi * mu_ * solveCurrent(velocities);  // docs/model.md 4.3
 }
 
 VecX RssSolver::nodalForces(const VecX& velocities) const {
@@ -66,7 +122,7 @@ VecX RssSolver::dragRowWeights() const {
 }
 
 MatX RssSolver::dragMatrix() const {
-  return dragRowWeights().asDiagonal() * lu_.inverse();  // docs/model.md 4.4 option B
+  return dragRowWeights().asDiagonal() * (rotated_ ? inverse() : lu_.inverse());  // 4.4 B
 }
 
 }  // namespace flagella::rss

@@ -24,10 +24,9 @@ void DenseNewtonSystem::addDense(const std::vector<int>& dofs, const MatX& block
   has_dense_blocks_ = true;
 }
 
-void DenseNewtonSystem::addScaledInverse(const std::vector<int>& dofs, const MatX& matrix,
-                                         const DenseLuSolver& lu, const VecX& row_weights,
-                                         double scale) {
-  InverseBlock block{dofs, &matrix, &lu, row_weights, scale};
+void DenseNewtonSystem::addScaledInverse(const std::vector<int>& dofs, const FactoredMatrix& a,
+                                         const VecX& row_weights, double scale) {
+  InverseBlock block{dofs, &a, row_weights, scale};
   if (has_inverse_) {  // only one block can precondition the system
     subtractExplicitInverse(block);
     return;
@@ -37,18 +36,18 @@ void DenseNewtonSystem::addScaledInverse(const std::vector<int>& dofs, const Mat
 }
 
 void DenseNewtonSystem::subtractExplicitInverse(const InverseBlock& block) {
-  addDense(block.dofs, block.row_weights.asDiagonal() * block.lu->inverse(), block.scale);
+  addDense(block.dofs, block.row_weights.asDiagonal() * block.matrix->inverse(), block.scale);
 }
 
 bool DenseNewtonSystem::canPrecondition() const {
   for (int dof : inverse_.dofs)
     if ((*fixed_)[dof]) return false;  // a pinned DOF would mix with free ones through A
-  return inverse_.matrix->diagonal().cwiseAbs().mean() > 0.0;
+  return inverse_.matrix->matrix().diagonal().cwiseAbs().mean() > 0.0;
 }
 
 void DenseNewtonSystem::precondition() {
   // docs/model.md 4.4: J C = J0 C - (s / alpha) P^T diag(w) P, J0 C = J0 + J0 P^T (A / alpha - I) P
-  const MatX& a = *inverse_.matrix;
+  const MatX& a = inverse_.matrix->matrix();
   const std::vector<int>& dofs = inverse_.dofs;
   const int m = static_cast<int>(dofs.size());
   alpha_ = a.diagonal().cwiseAbs().mean();

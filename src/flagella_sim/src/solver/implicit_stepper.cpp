@@ -140,8 +140,7 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
     addStretchingGradientHessian(net_, frames, residual_, hessian);
     addBendTwistGradientHessian(net_, q, frames, residual_, hessian, motor_twist_);
   }
-  const EffectContext ctx{
-      net_, q, frames, q0, v0, dt, start.time + dt, medium_, attempt_viscosity_};
+  const EffectContext ctx = contextAt(start, q, dt, frames);
   {
     ProfileScope timer(profile_, &StepProfile::effects);
     external_.setZero(net_.ndof());
@@ -154,7 +153,13 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
     ProfileScope timer(profile_, &StepProfile::assembly);
     SparseMatrix& J = assembler_.finish();
     if (any_fixed_) pinFixedDofs(J);
-    if (dense_) buildDenseJacobian(ctx);
+    if (dense_ && krylov_attempt_) {
+      product_.begin(J, net_.fixed_dof);
+      for (const EffectPtr& e : effects_)
+        if (e->hasDenseJacobian()) e->addDenseJacobian(ctx, product_);
+    } else if (dense_) {
+      buildDenseJacobian(ctx);
+    }
   }
   ProfileScope timer(profile_, &StepProfile::convergence);
   if (any_fixed_)
@@ -162,6 +167,11 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
       if (net_.fixed_dof[i]) residual_(i) = 0.0;
   return residual_.allFinite() ? scaledResidual(residual_)
                                : std::numeric_limits<double>::infinity();
+}
+
+EffectContext ImplicitStepper::contextAt(const RodState& start, const VecX& q, double dt,
+                                         const ReferenceFrames& frames) const {
+  return {net_, q, frames, start.q, start.qdot, dt, start.time + dt, medium_, attempt_viscosity_};
 }
 
 void ImplicitStepper::buildDenseJacobian(const EffectContext& ctx) {
@@ -174,9 +184,13 @@ ImplicitStepper::Factorization ImplicitStepper::factorizeJacobian(bool klu_only)
   ProfileScope timer(profile_, &StepProfile::factorization);
   if (profile_) ++profile_->factorizations;
   ++factorizations_;
-  if (dense_)
-    return dense_system_.factorize(kMinDenseReciprocalCondition) ? Factorization::kFactored
-                                                                 : Factorization::kSingular;
+  if (dense_) {
+    kept_.valid = dense_system_.factorize(kMinDenseReciprocalCondition);
+    kept_.stale = false;
+    kept_.dt = attempt_dt_;
+    kept_.viscosity = attempt_viscosity_;
+    return kept_.valid ? Factorization::kFactored : Factorization::kSingular;
+  }
   if (assembler_.redirected()) {
     if (lu_.factorizeInPlace()) return Factorization::kFactored;
     assembler_.stopRedirect();
@@ -211,12 +225,27 @@ void ImplicitStepper::transportInto(const VecX& q, const ReferenceFrames& previo
   transportFrames(net_, q, previous, frames);
 }
 
+bool ImplicitStepper::factorAt(const RodState& start, const VecX& q, double dt,
+                               const ReferenceFrames& frames, bool built) {
+  if (!built) evaluate(start, q, dt, frames, true);
+  Factorization factored = factorizeJacobian();
+  if (factored == Factorization::kNeedsMatrix) {
+    // The block LU refused a Jacobian assembled in its storage: assemble it as a matrix
+    // (assembly in place is off now) for KLU.
+    evaluate(start, q, dt, frames, true);
+    factored = factorizeJacobian(/*klu_only=*/true);
+  }
+  return factored == Factorization::kFactored;
+}
+
 ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodState& result,
                                                     double dt, double motor_offset,
                                                     double viscosity, bool damped) {
   Attempt attempt;
   motor_twist_.tau_bar = motor_tau_bar0_ + motor_offset;
   attempt_viscosity_ = viscosity;
+  attempt_dt_ = dt;
+  krylov_attempt_ = dense_ && options_.krylov_iterations > 0 && !damped;
   const VecX& q0 = start.q;
   VecX& q = iterate_;
   if (options_.extrapolate_initial_guess)
@@ -283,24 +312,20 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
         attempt.residual > kStagnationResidualFactor * options_.residual_tolerance &&
         attempt.residual > kStagnationRatio * residual_history[(iter + 1) % 3])
       return attempt;
-    // (Past the first pass a factored Jacobian always exists: a failed factorization returns.)
-    const bool chord = !built && !damped &&
-                       attempt.residual < options_.jacobian_reuse * previous_residual &&
-                       attempt.residual < kChordResidualFactor * options_.residual_tolerance;
-    if (!chord) {
-      if (!built) evaluate(start, q, dt, frames, true);
-      Factorization factored = factorizeJacobian();
-      if (factored == Factorization::kNeedsMatrix) {
-        // The block LU refused a Jacobian assembled in its storage: assemble it as a matrix
-        // (assembly in place is off now) for KLU.
-        evaluate(start, q, dt, frames, true);
-        factored = factorizeJacobian(/*klu_only=*/true);
-      }
-      if (factored != Factorization::kFactored) return attempt;
-    }
-    last_update_chord = chord;
     VecX& dq = update_;
-    solveJacobian(residual_, dq);
+    if (krylov_attempt_) {
+      if (!built) evaluate(start, q, dt, frames, true);
+      if (!krylovUpdate(start, q, dt, frames)) return attempt;
+      last_update_chord = false;
+    } else {
+      // (Past the first pass a factored Jacobian always exists: a failed factorization returns.)
+      const bool chord = !built && !damped &&
+                         attempt.residual < options_.jacobian_reuse * previous_residual &&
+                         attempt.residual < kChordResidualFactor * options_.residual_tolerance;
+      if (!chord && !factorAt(start, q, dt, frames, built)) return attempt;
+      last_update_chord = chord;
+      solveJacobian(residual_, dq);
+    }
     if (!dq.allFinite()) return attempt;
     bool round_off;
     {

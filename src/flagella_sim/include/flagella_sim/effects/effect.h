@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "flagella_sim/core/dense_lu_solver.h"
+#include "flagella_sim/core/factored_matrix.h"
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/types.h"
 #include "flagella_sim/effects/medium.h"
@@ -64,12 +64,12 @@ class DenseJacobianSink {
   virtual ~DenseJacobianSink() = default;
   /// Adds scale * block to dF/dq at rows and columns `dofs` (block is dofs.size() squared).
   virtual void addDense(const std::vector<int>& dofs, const MatX& block, double scale) = 0;
-  /// Adds scale * diag(row_weights) * matrix^{-1} (lu: its factorisation) at rows and columns
-  /// `dofs`. The stepper's sink never forms the inverse (solver/dense_newton_system.h); this
-  /// default does. `matrix` and `lu` must stay unchanged until the effect's next beginStep.
-  virtual void addScaledInverse(const std::vector<int>& dofs, const MatX& /*matrix*/,
-                                const DenseLuSolver& lu, const VecX& row_weights, double scale) {
-    addDense(dofs, row_weights.asDiagonal() * lu.inverse(), scale);
+  /// Adds scale * diag(row_weights) * A^{-1} at rows and columns `dofs`, A given with its
+  /// factorisation. The stepper's sink never forms the inverse (solver/dense_newton_system.h);
+  /// this default does. `a` must stay unchanged until the effect's next beginStep.
+  virtual void addScaledInverse(const std::vector<int>& dofs, const FactoredMatrix& a,
+                                const VecX& row_weights, double scale) {
+    addDense(dofs, row_weights.asDiagonal() * a.inverse(), scale);
   }
 };
 

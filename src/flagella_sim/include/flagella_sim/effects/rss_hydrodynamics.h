@@ -32,13 +32,17 @@ class RssHydrodynamics : public Effect {
 
   /// Network nodes the RSS acts on (every tail chain, root first), in system order.
   const std::vector<int>& nodes() const { return nodes_; }
+  /// (Sub)steps since the first, and how many of them reused the factored matrix rotated.
+  long stepsAfterFirst() const { return steps_; }
+  long reusedSteps() const { return reused_; }
 
  private:
   VecX gather(const VecX& q) const;  ///< the RSS nodes' positions (3M) from a DOF vector
   /// eps for this step: eps_ratio r0 or eps, whichever was set last (eps kept in step with it).
   double currentEps();
 
-  int eps_ = 0, eps_ratio_ = 0;
+  int eps_ = 0, eps_ratio_ = 0, reuse_tolerance_ = 0;
+  long steps_ = 0, reused_ = 0;
   bool implicit_ = true;
   bool relative_ = true;
   double filament_radius_ = 0.0;
@@ -47,7 +51,7 @@ class RssHydrodynamics : public Effect {
   std::vector<int> dofs_;  ///< 3 position DOFs per RSS node
   rss::Segments segments_;
   std::optional<rss::RssSolver> solver_;  ///< Ablk at x(t_k), factored (option B)
-  VecX explicit_force_;  ///< -K xdot(t_k) (option A)
+  VecX explicit_force_;                   ///< -K xdot(t_k) (option A)
 };
 
 }  // namespace flagella

@@ -3,11 +3,12 @@
 #pragma once
 
 #include "flagella_sim/core/dense_lu_solver.h"
+#include "flagella_sim/core/factored_matrix.h"
 #include "flagella_sim/hydro/rss_matrix.h"
 
 namespace flagella::rss {
 
-class RssSolver {
+class RssSolver : public FactoredMatrix {
  public:
   /// Validates (see validatePolyline; viscosity finite and > 0), assembles and factors Ablk.
   RssSolver(const Polyline& nodes, double eps, double viscosity);
@@ -16,9 +17,20 @@ class RssSolver {
   /// Rebuilds and refactors for new nodes (the storage is reused when the size is unchanged).
   /// Throws as the constructor; the solver is then unusable until an update succeeds.
   void update(const Polyline& nodes, const Segments& segments, double eps, double viscosity);
+  /// Rigid reuse (docs/model.md 4.4): when `nodes` are a rigid motion of the polyline last
+  /// factored, to within `tolerance` eps at every node after the best-fit rotation R (Kabsch),
+  /// with the same segments and eps, the factored matrix serves rotated, Ablk(R y + c) =
+  /// Q Ablk(y) Q^T with Q = diag(R, ..., R) (the regularized Stokeslet is isotropic); otherwise
+  /// as update(). The Voronoi lengths and viscosity are always the new ones. Returns true when
+  /// the factorisation was reused. tolerance 0: always update().
+  bool updateOrReuse(const Polyline& nodes, const Segments& segments, double eps, double viscosity,
+                     double tolerance);
 
   int nodeCount() const { return static_cast<int>(lengths_.size()); }
-  const MatX& matrix() const { return ablk_; }
+  /// Ablk at the current nodes (formed from the factored one when it was reused rotated).
+  const MatX& matrix() const override;
+  /// Ablk^{-1} b at the current nodes (FactoredMatrix).
+  VecX solveWith(const VecX& b) const override { return solveCurrent(b); }
   const VecX& voronoiLengths() const { return lengths_; }
   double eps() const { return eps_; }
   double viscosity() const { return mu_; }
@@ -32,16 +44,26 @@ class RssSolver {
   MatX dragMatrix() const;
   /// The row weights 8 pi mu l_p of K = diag(weights) Ablk^{-1} (3M entries).
   VecX dragRowWeights() const;
-  /// The LU factorisation of Ablk.
-  const DenseLuSolver& factorisation() const { return lu_; }
+  /// The largest node distance from the rigid motion of the factored polyline at the last
+  /// updateOrReuse() [m] (0 after a rebuild).
+  double lastDeviation() const { return deviation_; }
 
  private:
   void checkSize(const VecX& velocities) const;
+  /// Ablk^{-1} v at the current nodes: Q Ablk(y)^{-1} Q^T v (Q = I unless reused rotated).
+  VecX solveCurrent(const VecX& v) const;
 
   double eps_ = 0.0, mu_ = 0.0;
-  MatX ablk_;
+  MatX ablk_;  ///< Ablk(y) of the factored polyline y
   VecX lengths_;
   DenseLuSolver lu_;
+  Polyline factored_nodes_;  ///< y, minus its centroid
+  Segments segments_;
+  bool rotated_ = false;
+  Mat3 rotation_ = Mat3::Identity();  ///< R: current nodes = R y + c (+ deviation)
+  double deviation_ = 0.0;
+  mutable MatX rotated_matrix_;  ///< Q Ablk(y) Q^T, formed when matrix() asks
+  mutable bool rotated_matrix_valid_ = false;
 };
 
 }  // namespace flagella::rss

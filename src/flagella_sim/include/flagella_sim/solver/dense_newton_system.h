@@ -24,7 +24,7 @@ class DenseNewtonSystem : public DenseJacobianSink {
   void addDense(const std::vector<int>& dofs, const MatX& block, double scale) override;
   /// J -= scale * diag(row_weights) * matrix^{-1}; `matrix` must stay unchanged until
   /// factorize() (solve() uses the copy made there, so a factored system serves later updates).
-  void addScaledInverse(const std::vector<int>& dofs, const MatX& matrix, const DenseLuSolver& lu,
+  void addScaledInverse(const std::vector<int>& dofs, const FactoredMatrix& a,
                         const VecX& row_weights, double scale) override;
   /// Completes J (pins the Dirichlet DOFs) and factors it in place with partial-pivot LU, once
   /// per begin(); false if it is singular (reciprocal condition estimate below `min_rcond`).
@@ -38,8 +38,7 @@ class DenseNewtonSystem : public DenseJacobianSink {
  private:
   struct InverseBlock {
     std::vector<int> dofs;
-    const MatX* matrix = nullptr;
-    const DenseLuSolver* lu = nullptr;
+    const FactoredMatrix* matrix = nullptr;
     VecX row_weights;
     double scale = 0.0;
   };

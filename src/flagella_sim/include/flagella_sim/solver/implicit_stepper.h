@@ -22,7 +22,9 @@
 #include "flagella_sim/elastic/bend_twist_energy.h"
 #include "flagella_sim/rod/rod_network.h"
 #include "flagella_sim/rod/rod_state.h"
+#include "flagella_sim/solver/dense_jacobian_product.h"
 #include "flagella_sim/solver/dense_newton_system.h"
+#include "flagella_sim/solver/gmres.h"
 #include "flagella_sim/solver/jacobian_solver.h"
 #include "flagella_sim/solver/newton_options.h"
 #include "flagella_sim/solver/solver_failure.h"
@@ -110,8 +112,21 @@ class ImplicitStepper {
   };
   /// Factors the Jacobian built by evaluate(); klu_only: with KLU, not trying the block LU.
   Factorization factorizeJacobian(bool klu_only = false);
+  /// Factors the Jacobian at q (evaluating it first unless `built`: evaluate() just built it
+  /// there); false if it is singular.
+  bool factorAt(const RodState& start, const VecX& q, double dt, const ReferenceFrames& frames,
+                bool built);
   /// Solves J dq = rhs with the last factorisation into dq.
   void solveJacobian(const VecX& rhs, VecX& dq);
+  /// Newton-Krylov update (NewtonOptions::krylov_iterations): update_ with J update_ = residual_,
+  /// J the Jacobian evaluate() built at q, by GMRES preconditioned with the kept factorisation,
+  /// refactoring at q when there is none usable or GMRES falls short. False if that fails.
+  bool krylovUpdate(const RodState& start, const VecX& q, double dt, const ReferenceFrames& frames);
+  /// Builds the dense Newton system at q (after evaluate() with its Jacobian) and factors it.
+  bool refactorDense(const RodState& start, const VecX& q, double dt,
+                     const ReferenceFrames& frames);
+  EffectContext contextAt(const RodState& start, const VecX& q, double dt,
+                          const ReferenceFrames& frames) const;
   void transportInto(const VecX& q, const ReferenceFrames& previous, ReferenceFrames& frames) const;
 
   RodNetwork net_;
@@ -123,6 +138,7 @@ class ImplicitStepper {
   /// What evaluate() uses for this attempt: the motor spring's natural twist, the viscosity.
   NaturalTwistOverride motor_twist_;
   double attempt_viscosity_ = 0.0;
+  double attempt_dt_ = 0.0;
   double viscosity_factor_ = 1.0;  ///< of the last accepted (sub)step (reported only)
   bool any_fixed_ = false;
   SparseAssembler assembler_;
@@ -136,6 +152,18 @@ class ImplicitStepper {
   bool in_place_allowed_ = true;
   bool dense_ = false;  ///< some effect has a dense Jacobian block
   DenseNewtonSystem dense_system_;
+  /// Newton-Krylov (NewtonOptions::krylov_iterations): set for a plain attempt on a dense system;
+  /// evaluate() then fills product_ instead of building the dense system.
+  bool krylov_attempt_ = false;
+  DenseJacobianProduct product_;
+  Gmres gmres_;
+  VecX row_scales_, scaled_rhs_, unscaled_;
+  /// The factored dense Jacobian kept for later updates and steps.
+  struct KeptFactorization {
+    bool valid = false;
+    bool stale = false;  ///< the last GMRES solve needed many products: refactor next time
+    double dt = 0.0, viscosity = 0.0;
+  } kept_;
   int factorizations_ = 0;
   int analyses_ = 0;
   VecX previous_iterate_;  ///< to undo a chord update that raised the residual

@@ -30,6 +30,17 @@ struct NewtonOptions {
   /// update that raised the residual is undone first). 0: a fresh Jacobian for every update. The
   /// convergence test is the same either way, so only the iteration path changes.
   double jacobian_reuse = 0.1;
+  /// Newton-Krylov updates for a dense Newton system (docs/model.md 4.4): each update of a plain
+  /// attempt solves the Jacobian at the current iterate by GMRES preconditioned with the last
+  /// factored one (kept across steps of the same dt and viscosity), to 0.1 x residual_tolerance
+  /// in the scaled norm, in at most this many products; the Jacobian is refactored when GMRES
+  /// does not get there, or for the next update when it needed more than half of them. 0: every
+  /// update factors the Jacobian at its iterate (and chord steps as jacobian_reuse says). The
+  /// convergence test is the same either way.
+  int krylov_iterations = 12;
+  /// Jacobian lag (docs/model.md 1.10): a factored Jacobian may serve the first updates of up to
+  /// this many later steps of the same dt and viscosity (0: every step builds a fresh one).
+  int jacobian_lag_steps = 0;
   /// Initial guess q(t_k) + dt qdot(t_k) (public group code) instead of q(t_k); when the step
   /// continues the last accepted one with the same dt, the rate is extrapolated linearly from the
   /// last two steps, q(t_k) + dt (2 qdot(t_k) - qdot(t_{k-1})) (docs/model.md 1.10).

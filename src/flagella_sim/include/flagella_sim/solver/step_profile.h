@@ -26,6 +26,7 @@ struct StepProfile {
   long residuals = 0;  ///< residual evaluations (with or without Jacobian)
   long jacobians = 0;  ///< Jacobian evaluations
   long factorizations = 0;
+  long krylov_iterations = 0;  ///< GMRES products (solver.krylov_iterations)
 
   double other() const {
     return total - frames - elastic - effects - assembly - factorization - solve - convergence;
