@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "calibration_steps.h"
 #include "flagella_control/head_attitude.h"
 #include "flagella_control/heading.h"
 #include "flagella_control/session_driver.h"
@@ -18,26 +19,9 @@ namespace {
 
 const char* const kOptions = "steering calibration options";
 
-HeadAttitude attitudeOf(const SessionDriver& driver) {
-  const Eigen::Quaterniond& q = driver.session().snapshot().head_orientation;
-  const double quaternion[4] = {q.x(), q.y(), q.z(), q.w()};
-  return attitudeFromQuaternion(quaternion);
-}
-
-Vec3 headPosition(const SessionDriver& driver) { return driver.session().snapshot().head_position; }
-
-// Steps `seconds` at `omega(s)` (s from now), adding every step's forward direction to `sum` and
-// the commanded rate times dt to `shaft`.
-template <class Rate>
-void advance(SessionDriver& driver, double seconds, const Rate& omega, Vec3& sum, double& shaft) {
-  const long steps = std::lround(seconds / driver.dt());
-  for (long k = 0; k < steps; ++k) {
-    const double rate = omega(k * driver.dt());
-    driver.step(rate);
-    shaft += rate * driver.dt();
-    sum += attitudeOf(driver).forward;
-  }
-}
+using calibration_steps::advance;
+using calibration_steps::attitudeOf;
+using calibration_steps::headPosition;
 
 }  // namespace
 

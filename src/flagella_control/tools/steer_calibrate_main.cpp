@@ -1,6 +1,7 @@
 // flagella_steer_calibrate: the mass-transformer controller's calibration from the simulator
 // (docs/model.md 7.4): buckling threshold, cruise speed, both buckle schedules' deflection and
-// phase law, slider pitch rate. Writes YAML for flagella_steer and the steering node.
+// phase law, slider pitch rate. Writes YAML for flagella_steer and the steering node; optionally
+// the response tables (steering_response_tables.h) as CSV.
 //   flagella_steer_calibrate config/helical_steering.yaml -o
 //   config/calibration/helical_steering.yaml
 #include <CLI/CLI.hpp>
@@ -9,6 +10,7 @@
 #include <iostream>
 
 #include "flagella_control/steering_calibration_runner.h"
+#include "flagella_control/steering_response_tables.h"
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/runtime/tool_main.h"
 
@@ -33,14 +35,57 @@ int main(int argc, char** argv) {
   app.add_option("--crab-step", options.crab_step,
                  "crab runs: slider offsets +- this from the park position [m]");
   app.add_option("--crab-measure", options.crab_measure, "crab runs: measured span [s]");
+  flagella::control::SteeringTableOptions tables;
+  std::string turn_table, slider_table;
+  double flip_elevation_deg = tables.flip_elevation * 180.0 / M_PI;
+  auto* turn = app.add_option("--turn-table", turn_table,
+                              "also write the turn of one buckle cycle against pulse rate and "
+                              "duration (both schedules) to this CSV");
+  app.add_option("--pulse-factors", tables.pulse_factors,
+                 "turn table: pulse rates / threshold, e.g. 1.5,2,3")
+      ->delimiter(',')
+      ->needs(turn);
+  app.add_option("--pulse-durations", tables.pulse_durations,
+                 "turn table: pulse durations [s], e.g. 2,4,6")
+      ->delimiter(',')
+      ->needs(turn);
+  turn->needs(app.get_option("--pulse-factors"))->needs(app.get_option("--pulse-durations"));
+  auto* slider = app.add_option("--slider-table", slider_table,
+                                "also write the slider's response (pitch rate, flip and return "
+                                "times) against its offset from park to this CSV");
+  app.add_option("--slider-offsets", tables.slider_offsets,
+                 "slider table: offsets from the park position [m], e.g. 5e-4,-5e-4,2e-3")
+      ->delimiter(',')
+      ->needs(slider);
+  slider->needs(app.get_option("--slider-offsets"));
+  app.add_option("--flip-elevation", flip_elevation_deg,
+                 "slider table: |head axis elevation| that counts as flipped [deg]")
+      ->capture_default_str();
+  app.add_option("--flip-timeout", tables.flip_timeout, "slider table: per flip or return [s]")
+      ->capture_default_str();
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
+  tables.flip_elevation = flip_elevation_deg * M_PI / 180.0;
   return flagella::cli::runGuarded([&] {
+    tables.validate();  // before the runs, so that a bad option costs no minutes
     const auto t0 = std::chrono::steady_clock::now();
     const flagella::SimulationConfig config =
         flagella::loadSimulationConfig(config_path, overrides);
     const auto calibration = flagella::control::calibrateSteering(
         config, options, [](const std::string& line) { std::printf("%s\n", line.c_str()); });
     flagella::control::saveSteeringCalibration(calibration, output);
+    const auto print = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
+    if (!turn_table.empty()) {
+      flagella::control::writeBuckleTurnTable(
+          flagella::control::measureBuckleTurnTable(config, calibration, tables, options, print),
+          turn_table);
+      std::printf("wrote %s\n", turn_table.c_str());
+    }
+    if (!slider_table.empty()) {
+      flagella::control::writeSliderTable(
+          flagella::control::measureSliderTable(config, calibration, tables, options, print),
+          slider_table);
+      std::printf("wrote %s\n", slider_table.c_str());
+    }
     std::printf("wrote %s (%.0f s)\n", output.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     return 0;

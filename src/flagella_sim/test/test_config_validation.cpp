@@ -659,7 +659,7 @@ TEST(ProblemSize, HelixInMetresIsRefusedWithItsFiguresAndTheOverride) {
     const std::string msg = loadError(path, {bad});
     EXPECT_EQ(msg.rfind("override '" + bad + "'", 0), 0u) << msg;
     EXPECT_TRUE(contains(msg, "nodes, dense blocks")) << msg;
-    EXPECT_TRUE(contains(msg, "per Newton update")) << msg;
+    EXPECT_TRUE(contains(msg, "per factorisation")) << msg;
     EXPECT_TRUE(contains(msg, "solver.size_check=false")) << msg;
     const SimulationConfig allowed = loadSimulationConfig(path, {bad, "solver.size_check=false"});
     EXPECT_GT(estimateProblemSize(allowed).seconds_per_update, kMaxSecondsPerUpdate) << bad;

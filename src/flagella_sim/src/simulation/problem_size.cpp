@@ -72,7 +72,7 @@ std::string describeProblemSize(const ProblemSize& s) {
   if (s.nodes == 0) return "";
   return std::to_string(s.nodes) + " nodes, dense blocks " + std::to_string(s.dense_unknowns) +
          " + " + std::to_string(s.dofs) + " unknowns: about " + bytesText(s.memory_bytes) +
-         " and " + secondsText(s.seconds_per_update) + " per Newton update";
+         " and " + secondsText(s.seconds_per_update) + " per factorisation";
 }
 
 void requireRunnableSize(const SimulationConfig& c) {
@@ -85,7 +85,7 @@ void requireRunnableSize(const SimulationConfig& c) {
   if (!too_big && !too_slow) return;
   std::string why =
       too_big ? "more than half of this machine's " + bytesText(2.0 * memory_limit) + " of memory"
-              : "more than " + secondsText(kMaxSecondsPerUpdate) + " per Newton update";
+              : "more than " + secondsText(kMaxSecondsPerUpdate) + " per factorisation";
   throw ConfigError("robot: the helix (L_arc = " + formatNumber(c.helical.arcLength()) +
                     " m, robot.edge_length = " + formatNumber(c.helical.edge_length) +
                     " m) gives " + describeProblemSize(s) + ", " + why +

@@ -24,11 +24,11 @@ constexpr double kDenseFlopsPerSecond = 1.5e10;
 
 ProblemSize estimateProblemSize(const SimulationConfig& config);
 
-/// "88 nodes, dense block 255 + 351 unknowns: about 3.0 MB and 2.9 ms per Newton update".
+/// "88 nodes, dense block 255 + 351 unknowns: about 3.0 MB and 2.9 ms per factorisation".
 std::string describeProblemSize(const ProblemSize& size);
 
 /// Throws ConfigError with the figures when the dense blocks need more than half of this
-/// machine's memory or more than kMaxSecondsPerUpdate per Newton update, unless the config
+/// machine's memory or more than kMaxSecondsPerUpdate per factorisation, unless the config
 /// sets solver.size_check: false.
 void requireRunnableSize(const SimulationConfig& config);
 

@@ -1,0 +1,79 @@
+// The slider response table (steering_response_tables.h) on a coarse source robot: the gravity
+// couple of a COM-COV offset is linear in the offset (docs/model.md 5), so from level cruise the
+// initial pitch rate is odd and linear in the slider's offset from park; a larger offset flips
+// the head sooner, and the opposite offset brings it back through level. Bad table options are
+// named.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "flagella_control/steering_response_tables.h"
+#include "support/temp_dir.h"
+
+namespace fc = flagella::control;
+
+namespace {
+
+flagella::SimulationConfig coarseSourceRobot() {
+  // edges of 15 mm (23 nodes): the coarse model of the helical calibration test
+  return flagella::loadSimulationConfig(
+      std::string(FLAGELLA_CONFIG_DIR) + "/helical_steering_source.yaml",
+      {"robot.edge_length=0.015"});
+}
+
+TEST(SteeringTables, PitchRateIsOddAndLinearInTheSliderOffset) {
+  const flagella::SimulationConfig config = coarseSourceRobot();
+  fc::SteeringCalibration c;
+  c.buckling_threshold = 7.0;  // [rad/s], about 67 rpm: only the cruise is used here
+  c.cruise_omega = 4.2;
+  c.slider_min = config.slider.travel_min;
+  c.slider_max = config.slider.travel_max;
+  c.park_position = config.slider.initial_position;  // the config parks it at l = 0
+  fc::SteeringCalibrationOptions options;
+  options.settle_time = 5.0;
+  options.pitch_window = 2.0;
+  fc::SteeringTableOptions table;
+  const double d = 1e-3;
+  table.slider_offsets = {d, -d, 2 * d};
+  table.flip_elevation = 45.0 * M_PI / 180.0;
+  table.flip_timeout = 80.0;
+  const auto rows = fc::measureSliderTable(config, c, table, options);
+  ASSERT_EQ(rows.size(), 3u);
+  const double up = rows[0].pitch_rate, down = rows[1].pitch_rate, twice = rows[2].pitch_rate;
+  RecordProperty("pitch_rate_deg_s", std::to_string(up * 180 / M_PI));
+  EXPECT_GT(std::abs(up), 0.2 * M_PI / 180);  // a couple that pitches by tenths of deg/s at least
+  EXPECT_NEAR(down, -up, 0.1 * std::abs(up));
+  EXPECT_NEAR(twice, 2.0 * up, 0.15 * std::abs(up));
+  // The larger couple flips the head sooner; each flipped head comes back through level.
+  ASSERT_GT(rows[0].flip_time, 0.0);
+  ASSERT_GT(rows[2].flip_time, 0.0);
+  EXPECT_LT(rows[2].flip_time, rows[0].flip_time);
+  EXPECT_GT(rows[0].return_time, 0.0);
+  flagella::testing::TempDir dir;
+  fc::writeSliderTable(rows, (dir.path() / "slider.csv").string());
+  std::ifstream in((dir.path() / "slider.csv").string());
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header, "offset_mm,pitch_rate_deg_s,flip_time_s,return_time_s");
+}
+
+TEST(SteeringTables, BadOptionsAreNamed) {
+  fc::SteeringTableOptions t;
+  t.slider_offsets = {0.0};
+  EXPECT_THROW(t.validate(), std::invalid_argument);
+  t.slider_offsets = {1e-3};
+  t.pulse_factors = {0.9};
+  t.pulse_durations = {2.0};
+  try {
+    t.validate();
+    FAIL() << "a pulse below the threshold was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("pulse_factors"), std::string::npos) << e.what();
+  }
+  t.pulse_factors = {2.0};
+  t.pulse_durations = {};
+  EXPECT_THROW(t.validate(), std::invalid_argument);
+}
+
+}  // namespace
