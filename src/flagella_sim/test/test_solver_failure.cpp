@@ -15,6 +15,7 @@
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/robots/multi_tail_robot.h"
+#include "flagella_sim/rod/rod_kinematics.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
 #include "flagella_sim/solver/implicit_stepper.h"
@@ -130,6 +131,31 @@ TEST(SolverFailure, ImpossibleSolveThrowsAndLeavesSimulationUnchanged) {
   // Deterministic: the same failure again, state still untouched.
   EXPECT_EQ(solverFailureOf([&] { sim.step(); }), msg);
   EXPECT_TRUE(identical(sim.state(), before));
+}
+
+TEST(SolverFailure, AJointFoldedBackOnItselfIsNamed) {
+  // A tail joint folded to 179.5 deg, where the discrete curvature diverges (docs/model.md 1.4):
+  // the failure message names the joint and its angle; an unfolded robot's does not.
+  const SimulationConfig c = design1(kImpossibleSolver);
+  ImplicitStepper stepper = makeStepper(c);
+  const RodNetwork& net = stepper.network();
+  RodState s = stepper.initialState();
+  ConstantMotor motor(10.0);  // [rad/s]: a step to take
+  const std::string plain = solverFailureOf([&] { stepper.step(s, c.dt, motor); });
+  EXPECT_FALSE(contains(plain, "folded")) << plain;
+  const int last = static_cast<int>(net.bend_twist_springs.size()) - 1;
+  const BendTwistSpring& b = net.bend_twist_springs.at(last);  // a joint near a tail's tip
+  const Vec3 xp = nodePosition(s.q, b.node_p), xc = nodePosition(s.q, b.node_c);
+  const Vec3 back = (xp - xc).normalized();
+  const Vec3 side = back.unitOrthogonal();
+  const double angle = 0.5 * M_PI / 180.0;  // 179.5 deg from straight on
+  const Vec3 xq = xc + (nodePosition(s.q, b.node_q) - xc).norm() *
+                           (std::cos(angle) * back + std::sin(angle) * side);
+  s.q.segment<3>(RodNetwork::positionIndex(b.node_q)) = xq;
+  s.frames = initialFrames(net, s.q);
+  const std::string folded = solverFailureOf([&] { stepper.step(s, c.dt, motor); });
+  EXPECT_TRUE(contains(folded, "the joint at node " + std::to_string(b.node_c))) << folded;
+  EXPECT_TRUE(contains(folded, "is folded to 179.5")) << folded;
 }
 
 TEST(SolverFailure, FailureAfterGoodStepsNamesTheTimeAndKeepsTheLastState) {

@@ -45,6 +45,8 @@ constexpr double kStagnationRatio = 0.5;
 // scaled residual below this factor times the tolerance. Farther out (a motor reversal of the
 // binary-switch robot) a reused Jacobian was measured to stall Newton into the damped retry.
 constexpr double kChordResidualFactor = 100.0;
+// A failed step names a joint folded beyond this cosine of its turning angle (about 177.4 deg).
+constexpr double kFoldedJointCosine = -0.999;
 
 }  // namespace
 
@@ -263,6 +265,10 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
     if (net_.fixed_dof[i]) q(i) = q0(i);
   // The iterate's frames live in frames_ (storage reused); an accepted step swaps them in.
   ReferenceFrames& frames = frames_;
+  auto failed = [&](const char* reason) {
+    attempt.failure = reason;
+    return attempt;
+  };
   auto accept = [&]() {
     attempt.converged = true;
     predictor_.qdot_start = start.qdot;
@@ -298,12 +304,12 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
       attempt.residual = evaluate(start, q, dt, frames, true);
       built = true;
     } else {
-      if (!std::isfinite(attempt.residual)) return attempt;
+      if (!std::isfinite(attempt.residual)) return failed("a non-finite residual");
       if (attempt.residual < options_.residual_tolerance) {
         accept();
         return attempt;
       }
-      if (iter == options_.max_iterations) return attempt;
+      if (iter == options_.max_iterations) return failed("no convergence within max_iterations");
     }
     residual_history[iter % 3] = attempt.residual;
     // Plain Newton that has stopped converging (a two-cycle) gives up early when the damped
@@ -311,22 +317,22 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
     if (!damped && options_.damped_retry && iter >= kStagnationCheckStart &&
         attempt.residual > kStagnationResidualFactor * options_.residual_tolerance &&
         attempt.residual > kStagnationRatio * residual_history[(iter + 1) % 3])
-      return attempt;
+      return failed("stagnation (residual not halved in two updates)");
     VecX& dq = update_;
     if (krylov_attempt_) {
       if (!built) evaluate(start, q, dt, frames, true);
-      if (!krylovUpdate(start, q, dt, frames)) return attempt;
+      if (!krylovUpdate(start, q, dt, frames)) return failed("a singular Jacobian");
       last_update_chord = false;
     } else {
       // (Past the first pass a factored Jacobian always exists: a failed factorization returns.)
       const bool chord = !built && !damped &&
                          attempt.residual < options_.jacobian_reuse * previous_residual &&
                          attempt.residual < kChordResidualFactor * options_.residual_tolerance;
-      if (!chord && !factorAt(start, q, dt, frames, built)) return attempt;
+      if (!chord && !factorAt(start, q, dt, frames, built)) return failed("a singular Jacobian");
       last_update_chord = chord;
       solveJacobian(residual_, dq);
     }
-    if (!dq.allFinite()) return attempt;
+    if (!dq.allFinite()) return failed("a non-finite update");
     bool round_off;
     {
       ProfileScope timer(profile_, &StepProfile::convergence);
@@ -341,7 +347,7 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
         transportInto(trial, start.frames, trial_frames_);
         const double r = evaluate(start, trial, dt, trial_frames_, false);
         if (r < (1.0 - kArmijoFraction * length) * attempt.residual) break;
-        if (k == kMaxBacktracks) return attempt;  // no descent along the Newton direction
+        if (k == kMaxBacktracks) return failed("no descent along the Newton direction");
         length *= 0.5;
       }
       dq *= length;
@@ -355,7 +361,27 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
       return attempt;
     }
   }
-  return attempt;
+  return failed("no convergence within max_iterations");
+}
+
+std::string ImplicitStepper::foldedJointNote(const RodState& state) const {
+  // docs/model.md 1.4: the curvature binormal 2 e x f / (|e||f| + e.f) diverges as a joint folds
+  // back on itself; no step size passes that configuration.
+  double most = 1.0;
+  int which = -1;
+  for (size_t i = 0; i < net_.bend_twist_springs.size(); ++i) {
+    const BendTwistSpring& b = net_.bend_twist_springs[i];
+    const double c =
+        (b.sign_e * state.frames.tangent[b.edge_e]).dot(b.sign_f * state.frames.tangent[b.edge_f]);
+    if (c < most) most = c, which = static_cast<int>(i);
+  }
+  if (which < 0 || most > kFoldedJointCosine) return "";
+  std::ostringstream note;
+  note << "; the joint at node " << net_.bend_twist_springs[which].node_c
+       << (which == net_.parts.motor_spring ? " (the motor joint)" : "") << " is folded to "
+       << std::acos(std::max(-1.0, most)) * 180.0 / M_PI
+       << " deg, where the discrete curvature diverges";
+  return note.str();
 }
 
 StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& motor, int depth) {
@@ -407,7 +433,8 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& mot
     std::ostringstream msg;
     msg << "Newton did not converge at t = " << state.time << " s with dt = " << dt << " s after "
         << depth << " subdivisions (scaled residual " << a.residual << ", tolerance "
-        << options_.residual_tolerance << ")";
+        << options_.residual_tolerance << "; the last attempt ended on " << a.failure << ")"
+        << foldedJointNote(state);
     throw SolverFailure(msg.str());
   }
   RodState half = state;

@@ -14,6 +14,7 @@
 #include <deque>
 #include <memory>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "flagella_sim/actuation/motor.h"
@@ -88,6 +89,7 @@ class ImplicitStepper {
     bool converged = false;
     int iterations = 0;
     double residual = 0.0;
+    const char* failure = "";  ///< why an attempt that did not converge ended
   };
   /// One Newton solve of the step; `damped`: backtrack each update until the scaled residual
   /// decreases (Armijo), and give up if no step length below 1 decreases it.
@@ -100,6 +102,9 @@ class ImplicitStepper {
   double evaluate(const RodState& start, const VecX& q, double dt, const ReferenceFrames& frames,
                   bool with_jacobian);
   StepReport stepRecursive(RodState& state, double dt, Motor& motor, int depth);
+  /// "; the joint at node N ... is folded to X deg ..." when a bending spring of `state` is
+  /// folded nearly back on itself (the usual cause of a step no subdivision passes), else "".
+  std::string foldedJointNote(const RodState& state) const;
   double scaledResidual(const VecX& f) const;
   double stepNorm(const VecX& dq) const;
   void pinFixedDofs(SparseMatrix& J) const;
