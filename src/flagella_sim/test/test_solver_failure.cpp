@@ -134,7 +134,7 @@ TEST(SolverFailure, ImpossibleSolveThrowsAndLeavesSimulationUnchanged) {
 }
 
 TEST(SolverFailure, AJointFoldedBackOnItselfIsNamed) {
-  // A tail joint folded to 179.5 deg, where the discrete curvature diverges (docs/model.md 1.4):
+  // A tail joint folded to 179.5 deg, where the discrete curvature diverges (docs/model.md 1.3):
   // the failure message names the joint and its angle; an unfolded robot's does not.
   const SimulationConfig c = design1(kImpossibleSolver);
   ImplicitStepper stepper = makeStepper(c);

@@ -365,7 +365,7 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
 }
 
 std::string ImplicitStepper::foldedJointNote(const RodState& state) const {
-  // docs/model.md 1.4: the curvature binormal 2 e x f / (|e||f| + e.f) diverges as a joint folds
+  // docs/model.md 1.3: the curvature binormal 2 e x f / (|e||f| + e.f) diverges as a joint folds
   // back on itself; no step size passes that configuration.
   double most = 1.0;
   int which = -1;
