@@ -33,4 +33,17 @@ void advance(SessionDriver& driver, double seconds, const Rate& omega, Vec3& sum
   }
 }
 
+/// Steps `seconds` at the constant rate `omega` and returns the least-squares slope of the
+/// elevation of the head's forward direction over them [rad/s].
+inline double elevationRateOver(SessionDriver& driver, double seconds, double omega) {
+  double st = 0, se = 0, stt = 0, ste = 0;
+  const long steps = std::lround(seconds / driver.dt());
+  for (long k = 1; k <= steps; ++k) {
+    driver.step(omega);
+    const double t = k * driver.dt(), e = elevationOf(attitudeOf(driver).forward);
+    st += t, se += e, stt += t * t, ste += t * e;
+  }
+  return (steps * ste - st * se) / (steps * stt - st * st);
+}
+
 }  // namespace flagella::control::calibration_steps

@@ -21,6 +21,7 @@ const char* const kOptions = "steering calibration options";
 
 using calibration_steps::advance;
 using calibration_steps::attitudeOf;
+using calibration_steps::elevationRateOver;
 using calibration_steps::headPosition;
 
 }  // namespace
@@ -213,17 +214,7 @@ SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
     const double step =
         std::clamp(c.park_position + options.slider_step, c.slider_min, c.slider_max) -
         c.park_position;
-    // Least-squares slope of the elevation of travel over the window.
-    double st = 0, se = 0, stt = 0, ste = 0;
-    long n = 0;
-    const long steps = std::lround(options.pitch_window / driver.dt());
-    const double t0 = driver.time();
-    for (long k = 0; k < steps; ++k) {
-      driver.step(c.cruise_omega);
-      const double t = driver.time() - t0, e = elevationOf(attitudeOf(driver).forward);
-      st += t, se += e, stt += t * t, ste += t * e, ++n;
-    }
-    const double slope = (n * ste - st * se) / (n * stt - st * st);
+    const double slope = elevationRateOver(driver, options.pitch_window, c.cruise_omega);
     c.pitch_rate_per_slider = slope / step;
     report("slider: park " + numberString(c.park_position * 1e3) + " mm, pitch rate " +
            numberString(c.pitch_rate_per_slider * 1e-3 * 180 / M_PI) + " deg/s per mm");

@@ -17,6 +17,7 @@ constexpr double kDeg = 180.0 / M_PI;
 
 using calibration_steps::advance;
 using calibration_steps::attitudeOf;
+using calibration_steps::elevationRateOver;
 
 double elevationNow(const SessionDriver& driver) { return elevationOf(attitudeOf(driver).forward); }
 
@@ -96,17 +97,8 @@ std::vector<SliderResponseRow> measureSliderTable(
     double shaft = 0.0;
     advance(
         driver, options.settle_time, [&](double) { return cruise; }, ignored, shaft);
-    const double start = elevationNow(driver);
     driver.commandSlider(clampTravel(calibration.park_position + offset));
-    // Least-squares slope of the elevation over the pitch window.
-    double st = 0, se = 0, stt = 0, ste = 0;
-    const long steps = std::lround(options.pitch_window / driver.dt());
-    for (long k = 1; k <= steps; ++k) {
-      driver.step(cruise);
-      const double t = k * driver.dt(), e = elevationNow(driver) - start;
-      st += t, se += e, stt += t * t, ste += t * e;
-    }
-    row.pitch_rate = (steps * ste - st * se) / (steps * stt - st * st);
+    row.pitch_rate = elevationRateOver(driver, options.pitch_window, cruise);
     const double sign = row.pitch_rate >= 0.0 ? 1.0 : -1.0;
     const double flip = timeUntil(driver, cruise, table.flip_timeout,
                                   [&](double e) { return sign * e >= table.flip_elevation; });

@@ -6,12 +6,15 @@
 
 namespace flagella {
 
+namespace {
+
 Vec3 centroidOf(const std::vector<Vec3>& points) {
-  if (points.empty()) throw std::invalid_argument("centroidOf: no points");
   Vec3 sum = Vec3::Zero();
   for (const Vec3& p : points) sum += p;
   return sum / static_cast<double>(points.size());
 }
+
+}  // namespace
 
 RigidFit bestRigidFit(const std::vector<Vec3>& from, const std::vector<Vec3>& to) {
   if (from.size() != to.size() || from.empty())

@@ -43,22 +43,21 @@ void RssSolver::update(const Polyline& nodes, const Segments& segments, double e
     throw std::invalid_argument("the RSS matrix is singular (reciprocal condition " +
                                 std::to_string(lu_.rcond()) +
                                 "): nodes too close for this eps, or eps too small");
-  const Vec3 centroid = centroidOf(nodes);
-  factored_nodes_.resize(nodes.size());
-  for (size_t i = 0; i < nodes.size(); ++i) factored_nodes_[i] = nodes[i] - centroid;
+  factored_nodes_ = nodes;
   segments_ = segments;
 }
 
 bool RssSolver::updateOrReuse(const Polyline& nodes, const Segments& segments, double eps,
                               double viscosity, double tolerance) {
-  if (!(tolerance > 0.0) || eps != eps_ || segments != segments_ ||
-      nodes.size() != factored_nodes_.size()) {
-    update(nodes, segments, eps, viscosity);
-    return false;
+  RigidFit fit;
+  bool reusable = tolerance > 0.0 && eps == eps_ && segments == segments_ &&
+                  nodes.size() == factored_nodes_.size();
+  if (reusable) {
+    validatePolyline(nodes, segments, eps);
+    fit = bestRigidFit(factored_nodes_, nodes);
+    reusable = fit.deviation <= tolerance * eps;
   }
-  validatePolyline(nodes, segments, eps);
-  const RigidFit fit = bestRigidFit(factored_nodes_, nodes);
-  if (!(fit.deviation <= tolerance * eps)) {
+  if (!reusable) {
     update(nodes, segments, eps, viscosity);
     return false;
   }
@@ -74,16 +73,25 @@ bool RssSolver::updateOrReuse(const Polyline& nodes, const Segments& segments, d
 const MatX& RssSolver::matrix() const {
   if (!rotated_) return ablk_;
   if (!rotated_matrix_valid_) {
-    // Q Ablk(y) Q^T, 3x3 block by block (docs/model.md 4.4)
-    const int m = nodeCount();
-    rotated_matrix_.resize(3 * m, 3 * m);
-    for (int c = 0; c < m; ++c)
-      for (int r = 0; r < m; ++r)
-        rotated_matrix_.block<3, 3>(3 * r, 3 * c) =
-            rotation_ * ablk_.block<3, 3>(3 * r, 3 * c) * rotation_.transpose();
+    rotated_matrix_ = ablk_;
+    rotateBlocks(rotated_matrix_);
     rotated_matrix_valid_ = true;
   }
   return rotated_matrix_;
+}
+
+MatX RssSolver::inverse() const {
+  MatX inv = lu_.inverse();
+  if (rotated_) rotateBlocks(inv);
+  return inv;
+}
+
+void RssSolver::rotateBlocks(MatX& m) const {
+  // M -> Q M Q^T, 3x3 block by block (docs/model.md 4.4)
+  const int n = nodeCount();
+  for (int c = 0; c < n; ++c)
+    for (int r = 0; r < n; ++r)
+      m.block<3, 3>(3 * r, 3 * c) = rotation_ * m.block<3, 3>(3 * r, 3 * c) * rotation_.transpose();
 }
 
 VecX RssSolver::solveCurrent(const VecX& v) const {
@@ -122,7 +130,7 @@ VecX RssSolver::dragRowWeights() const {
 }
 
 MatX RssSolver::dragMatrix() const {
-  return dragRowWeights().asDiagonal() * (rotated_ ? inverse() : lu_.inverse());  // 4.4 B
+  return dragRowWeights().asDiagonal() * inverse();  // docs/model.md 4.4 option B
 }
 
 }  // namespace flagella::rss

@@ -1,5 +1,6 @@
 #include "flagella_sim/rod/rod_kinematics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <queue>
 #include <stdexcept>
@@ -199,6 +200,18 @@ SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& sp, 
 
 Vec3 materialDirector1(const ReferenceFrames& fr, const VecX& q, const RodNetwork& net, int edge) {
   return edgeDirectors(net, q, fr, edge).m1;
+}
+
+FoldedJoint mostFoldedJoint(const RodNetwork& net, const ReferenceFrames& frames) {
+  FoldedJoint most;
+  double lowest = 2.0;  // cosine of the turning angle t_e . t_f (docs/model.md 1.3)
+  for (size_t i = 0; i < net.bend_twist_springs.size(); ++i) {
+    const BendTwistSpring& b = net.bend_twist_springs[i];
+    const double c = (b.sign_e * frames.tangent[b.edge_e]).dot(b.sign_f * frames.tangent[b.edge_f]);
+    if (c < lowest) lowest = c, most.spring = static_cast<int>(i);
+  }
+  if (most.spring >= 0) most.angle = std::acos(std::clamp(lowest, -1.0, 1.0));
+  return most;
 }
 
 }  // namespace flagella

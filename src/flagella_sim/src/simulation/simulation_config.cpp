@@ -235,7 +235,6 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
   o.max_subdivision_depth = r.integer("max_subdivision_depth", o.max_subdivision_depth, 0, 20);
   o.jacobian_reuse = r.number("jacobian_reuse", o.jacobian_reuse, 0.0, 1.0);
   o.krylov_iterations = r.integer("krylov_iterations", o.krylov_iterations, 0, 200);
-  o.jacobian_lag_steps = r.integer("jacobian_lag_steps", o.jacobian_lag_steps, 0, 1000);
   o.extrapolate_initial_guess = r.flag("extrapolate_initial_guess", o.extrapolate_initial_guess);
   o.block_lu = r.choice("linear_solver", "block_lu", {"block_lu", "klu"}) == "block_lu";
   o.trace = r.flag("trace", o.trace);

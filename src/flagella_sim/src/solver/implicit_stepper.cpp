@@ -45,8 +45,8 @@ constexpr double kStagnationRatio = 0.5;
 // scaled residual below this factor times the tolerance. Farther out (a motor reversal of the
 // binary-switch robot) a reused Jacobian was measured to stall Newton into the damped retry.
 constexpr double kChordResidualFactor = 100.0;
-// A failed step names a joint folded beyond this cosine of its turning angle (about 177.4 deg).
-constexpr double kFoldedJointCosine = -0.999;
+// A failed step names a joint folded beyond this turning angle (cos = -0.999, about 177.4 deg).
+const double kFoldedJointAngle = std::acos(-0.999);
 
 }  // namespace
 
@@ -157,8 +157,7 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
     if (any_fixed_) pinFixedDofs(J);
     if (dense_ && krylov_attempt_) {
       product_.begin(J, net_.fixed_dof);
-      for (const EffectPtr& e : effects_)
-        if (e->hasDenseJacobian()) e->addDenseJacobian(ctx, product_);
+      addDenseBlocks(ctx, product_);
     } else if (dense_) {
       buildDenseJacobian(ctx);
     }
@@ -176,10 +175,14 @@ EffectContext ImplicitStepper::contextAt(const RodState& start, const VecX& q, d
   return {net_, q, frames, start.q, start.qdot, dt, start.time + dt, medium_, attempt_viscosity_};
 }
 
+void ImplicitStepper::addDenseBlocks(const EffectContext& ctx, DenseJacobianSink& sink) const {
+  for (const EffectPtr& e : effects_)
+    if (e->hasDenseJacobian()) e->addDenseJacobian(ctx, sink);
+}
+
 void ImplicitStepper::buildDenseJacobian(const EffectContext& ctx) {
   dense_system_.begin(assembler_.matrix(), net_.fixed_dof);
-  for (const EffectPtr& e : effects_)
-    if (e->hasDenseJacobian()) e->addDenseJacobian(ctx, dense_system_);
+  addDenseBlocks(ctx, dense_system_);
 }
 
 ImplicitStepper::Factorization ImplicitStepper::factorizeJacobian(bool klu_only) {
@@ -365,22 +368,13 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
 }
 
 std::string ImplicitStepper::foldedJointNote(const RodState& state) const {
-  // docs/model.md 1.3: the curvature binormal 2 e x f / (|e||f| + e.f) diverges as a joint folds
-  // back on itself; no step size passes that configuration.
-  double most = 1.0;
-  int which = -1;
-  for (size_t i = 0; i < net_.bend_twist_springs.size(); ++i) {
-    const BendTwistSpring& b = net_.bend_twist_springs[i];
-    const double c =
-        (b.sign_e * state.frames.tangent[b.edge_e]).dot(b.sign_f * state.frames.tangent[b.edge_f]);
-    if (c < most) most = c, which = static_cast<int>(i);
-  }
-  if (which < 0 || most > kFoldedJointCosine) return "";
+  // no step size passes a joint folded back on itself (docs/model.md 1.3)
+  const FoldedJoint joint = mostFoldedJoint(net_, state.frames);
+  if (joint.spring < 0 || joint.angle < kFoldedJointAngle) return "";
   std::ostringstream note;
-  note << "; the joint at node " << net_.bend_twist_springs[which].node_c
-       << (which == net_.parts.motor_spring ? " (the motor joint)" : "") << " is folded to "
-       << std::acos(std::max(-1.0, most)) * 180.0 / M_PI
-       << " deg, where the discrete curvature diverges";
+  note << "; the joint at node " << net_.bend_twist_springs[joint.spring].node_c
+       << (joint.spring == net_.parts.motor_spring ? " (the motor joint)" : "") << " is folded to "
+       << joint.angle * 180.0 / M_PI << " deg, where the discrete curvature diverges";
   return note.str();
 }
 

@@ -15,8 +15,8 @@ class FactoredMatrix {
   virtual const MatX& matrix() const = 0;
   /// A^{-1} b.
   virtual VecX solveWith(const VecX& b) const = 0;
-  /// A^{-1}, column by column from solveWith (O(n^3): for checks and fallbacks).
-  MatX inverse() const {
+  /// A^{-1} (O(n^3): for checks and fallbacks); by default column by column from solveWith.
+  virtual MatX inverse() const {
     const int n = static_cast<int>(matrix().rows());
     MatX inv(n, n);
     VecX unit = VecX::Zero(n);
@@ -39,6 +39,7 @@ class LuFactoredMatrix : public FactoredMatrix {
   }
   const MatX& matrix() const override { return a_; }
   VecX solveWith(const VecX& b) const override { return lu_.solve(b); }
+  MatX inverse() const override { return lu_.inverse(); }
 
  private:
   MatX a_;

@@ -14,9 +14,6 @@ struct RigidFit {
   double deviation = 0.0;            ///< max_i |x_i - (R y_i + c)|
 };
 
-/// The centroid of a non-empty point set.
-Vec3 centroidOf(const std::vector<Vec3>& points);
-
 /// Best fit x_i ~ R y_i + c; `from` (y) and `to` (x) have the same, non-zero size.
 RigidFit bestRigidFit(const std::vector<Vec3>& from, const std::vector<Vec3>& to);
 

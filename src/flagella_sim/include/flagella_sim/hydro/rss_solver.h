@@ -31,6 +31,8 @@ class RssSolver : public FactoredMatrix {
   const MatX& matrix() const override;
   /// Ablk^{-1} b at the current nodes (FactoredMatrix).
   VecX solveWith(const VecX& b) const override { return solveCurrent(b); }
+  /// Ablk^{-1} at the current nodes: Q Ablk(y)^{-1} Q^T.
+  MatX inverse() const override;
   const VecX& voronoiLengths() const { return lengths_; }
   double eps() const { return eps_; }
   double viscosity() const { return mu_; }
@@ -52,12 +54,14 @@ class RssSolver : public FactoredMatrix {
   void checkSize(const VecX& velocities) const;
   /// Ablk^{-1} v at the current nodes: Q Ablk(y)^{-1} Q^T v (Q = I unless reused rotated).
   VecX solveCurrent(const VecX& v) const;
+  /// m -> Q m Q^T for a 3M x 3M matrix m (Q = diag(R, ..., R)).
+  void rotateBlocks(MatX& m) const;
 
   double eps_ = 0.0, mu_ = 0.0;
   MatX ablk_;  ///< Ablk(y) of the factored polyline y
   VecX lengths_;
   DenseLuSolver lu_;
-  Polyline factored_nodes_;  ///< y, minus its centroid
+  Polyline factored_nodes_;  ///< y
   Segments segments_;
   bool rotated_ = false;
   Mat3 rotation_ = Mat3::Identity();  ///< R: current nodes = R y + c (+ deviation)

@@ -51,6 +51,15 @@ SpringGeometry springGeometry(const RodNetwork& net, const BendTwistSpring& spri
                               const ReferenceFrames& frames, const MaterialFrames& material,
                               int spring_index);
 
+/// The bending-twisting spring whose local edges turn the most, and that turning angle [rad]
+/// (pi: folded back on itself, where the curvature binormal diverges, docs/model.md 1.3).
+/// spring -1 for a network without springs.
+struct FoldedJoint {
+  int spring = -1;
+  double angle = 0.0;
+};
+FoldedJoint mostFoldedJoint(const RodNetwork& net, const ReferenceFrames& frames);
+
 /// Material director m1^j (stored orientation) of edge j.
 Vec3 materialDirector1(const ReferenceFrames& frames, const VecX& q, const RodNetwork& net,
                        int edge);

@@ -108,6 +108,8 @@ class ImplicitStepper {
   double scaledResidual(const VecX& f) const;
   double stepNorm(const VecX& dq) const;
   void pinFixedDofs(SparseMatrix& J) const;
+  /// Hands every effect's dense Jacobian blocks at `ctx` to `sink`.
+  void addDenseBlocks(const EffectContext& ctx, DenseJacobianSink& sink) const;
   /// Starts the dense Newton system from the sparse Jacobian and adds the effects' dense blocks.
   void buildDenseJacobian(const EffectContext& ctx);
   enum class Factorization {

@@ -38,9 +38,6 @@ struct NewtonOptions {
   /// update factors the Jacobian at its iterate (and chord steps as jacobian_reuse says). The
   /// convergence test is the same either way.
   int krylov_iterations = 12;
-  /// Jacobian lag (docs/model.md 1.10): a factored Jacobian may serve the first updates of up to
-  /// this many later steps of the same dt and viscosity (0: every step builds a fresh one).
-  int jacobian_lag_steps = 0;
   /// Initial guess q(t_k) + dt qdot(t_k) (public group code) instead of q(t_k); when the step
   /// continues the last accepted one with the same dt, the rate is extrapolated linearly from the
   /// last two steps, q(t_k) + dt (2 qdot(t_k) - qdot(t_{k-1})) (docs/model.md 1.10).
