@@ -43,7 +43,10 @@ SteeringNode::SteeringNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   SteeringGains gains;
   const std::string schedule = param<std::string>(pnh, "schedule", "relax");
   gains.schedule = scheduleFromName(schedule);
-  // Every gain of SteeringGains by its name (steer_by_offset, trim_neutral: 0 or 1).
+  // A gains file first (~gains, SteeringGains::load), then every gain of SteeringGains by its
+  // name (steer_by_offset, trim_neutral: 0 or 1).
+  const std::string gains_file = fileParam(pnh, "gains");
+  if (!gains_file.empty()) gains.load(gains_file);
   for (const std::string& name : SteeringGains::names())
     gains.set(name, param(pnh, name, gains.get(name)));
   controller_ = std::make_unique<MassTransformerController>(

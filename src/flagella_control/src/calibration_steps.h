@@ -21,14 +21,14 @@ inline Vec3 headPosition(const SessionDriver& driver) {
 }
 
 /// Steps `seconds` at `omega(s)` (s from now), adding every step's forward direction to `sum`
-/// and the commanded rate times dt to `shaft`.
+/// and the applied rate (after the soft start) times dt to `shaft`.
 template <class Rate>
 void advance(SessionDriver& driver, double seconds, const Rate& omega, Vec3& sum, double& shaft) {
   const long steps = std::lround(seconds / driver.dt());
   for (long k = 0; k < steps; ++k) {
-    const double rate = omega(k * driver.dt());
-    driver.step(rate);
-    shaft += rate * driver.dt();
+    // The shaft angle of the rate applied (the soft start included): the controller's phase
+    // law is in the angle its own commands give, which the simulator applies as they are.
+    shaft += driver.step(omega(k * driver.dt())) * driver.dt();
     sum += attitudeOf(driver).forward;
   }
 }

@@ -27,10 +27,11 @@ SessionDriver::SessionDriver(const flagella::SimulationConfig& config, double ma
       ramp_(config.motor.ramp_time),
       run_(std::move(run)) {}
 
-void SessionDriver::step(double signed_omega) {
+double SessionDriver::step(double signed_omega) {
   const double t_end = session_.time() + session_.dt();
   const double scale = ramp_ > 0.0 ? std::min(1.0, t_end / ramp_) : 1.0;
-  const flagella::CommandVerdict verdict = session_.commandMotor(signed_omega * scale);
+  const double applied = signed_omega * scale;
+  const flagella::CommandVerdict verdict = session_.commandMotor(applied);
   if (verdict != flagella::CommandVerdict::Accepted)
     throw std::runtime_error("calibration " + run_ +
                              ": motor command rejected: " + session_.health().last_rejection);
@@ -39,6 +40,7 @@ void SessionDriver::step(double signed_omega) {
   if (!ok || h.solver_failures > 0)
     throw std::runtime_error("calibration " + run_ + ": solver failure at t = " +
                              numberString(session_.time()) + " s (" + h.message + ")");
+  return applied;
 }
 
 void SessionDriver::commandSlider(double position) {

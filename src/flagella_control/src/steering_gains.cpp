@@ -6,6 +6,8 @@
 
 #include "flagella_control/mass_transformer_controller.h"
 #include "flagella_control/validation.h"
+#include "flagella_control/yaml_text.h"
+#include "flagella_sim/core/parameter_set.h"
 
 namespace flagella::control {
 
@@ -120,6 +122,8 @@ constexpr NamedFlag kNamedFlags[] = {
      "1: trim the neutral from the head's pitch while the start frame's course is measured"},
     {"retrim_neutral", &SteeringGains::retrim_neutral,
      "1: re-trim the neutral from the pitch model learnt over the mission"},
+    {"hold_in_cycle", &SteeringGains::hold_in_cycle,
+     "1: the slider at the neutral during a buckle cycle and its settle_time (no elevation loop)"},
 };
 }  // namespace
 
@@ -222,6 +226,20 @@ std::string SteeringGains::table() const {
     text += line;
   }
   return text;
+}
+
+void SteeringGains::load(const std::string& path) {
+  const YAML::Node node = loadSingleKeyFile(path, "steering_gains", kContext);
+  MapReader reader(node, "steering_gains", path, kContext);
+  for (const auto& entry : node) {
+    const std::string name = entry.first.as<std::string>();
+    const double value = reader.number(name);
+    try {
+      set(name, value);
+    } catch (const std::invalid_argument& e) {
+      throw flagella::InputFileError(path + ": " + e.what());
+    }
+  }
 }
 
 }  // namespace flagella::control

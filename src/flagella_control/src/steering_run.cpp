@@ -167,6 +167,9 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
       }
       for (std::size_t i = 0; i < miss.size(); ++i)
         miss[i] = std::min(miss[i], (s.head_position - result.waypoints[i]).norm());
+      const auto next = static_cast<std::size_t>(result.reached_in_order);
+      if (next < miss.size() && (s.head_position - result.waypoints[next]).norm() <= tolerance)
+        ++result.reached_in_order;
     }
     if (sample_due) {
       next_sample += sample_interval;
@@ -264,7 +267,8 @@ std::string steeringResultJson(const SteeringRunResult& r, const std::string& co
                                const std::string& mission) {
   std::ostringstream j;
   j << "{\n  \"controller\": \"" << controller << "\",\n  \"mission\": \"" << mission << "\",\n";
-  j << "  \"reached\": " << r.reached << ",\n  \"total\": " << r.total << ",\n";
+  j << "  \"reached\": " << r.reached << ",\n  \"reached_in_order\": " << r.reached_in_order
+    << ",\n  \"total\": " << r.total << ",\n";
   j << "  \"tolerance_mm\": " << jsonNumber(r.tolerance * 1e3) << ",\n";
   j << "  \"max_miss_mm\": " << jsonNumber(r.max_miss * 1e3) << ",\n";
   j << "  \"miss_mm\": [";

@@ -113,5 +113,41 @@ TEST(SteeringRun, ARunEndingBeforeTheWaypointsArePlacedCountsThemAllMissed) {
             std::string::npos);
 }
 
+TEST(SteeringRun, WaypointsPassedOutOfTurnCountAsReachedButNotInOrder) {
+  // A straight cruise replayed open loop passes A (after 4 s) and then B (after 12 s). Scored
+  // with the mission B, A both are reached, but only B in order: A was passed before B.
+  const std::string config_path =
+      std::string(FLAGELLA_CONFIG_DIR) + "/helical_steering_source.yaml";
+  const flagella::SimulationConfig config =
+      flagella::loadSimulationConfig(config_path, {"robot.edge_length=0.015"});
+  const SteeringCalibration calibration = loadSteeringCalibration(
+      std::string(FLAGELLA_CONFIG_DIR) + "/calibration/helical_steering_source.yaml");
+  const flagella::SessionOptions sensors = steeringSessionOptions(config, calibration, 1);
+  constexpr double kDuration = 14.0, kTolerance = 1e-3;  // [s], [m]
+  const std::vector<RecordedCommand> cruise = {
+      {0.0, calibration.cruise_omega, calibration.park_position},
+      {kDuration, calibration.cruise_omega, calibration.park_position}};
+  const Eigen::Vector3d far(1.0, 1.0, 1.0);
+  const SteeringRunResult path =
+      runOpenLoop(config, sensors, cruise, calibration.park_position, {far}, kTolerance, kDuration);
+  const auto at = [&](double t) {
+    for (const SteeringSample& s : path.samples)
+      if (s.time >= t) return s.position;
+    return path.samples.back().position;
+  };
+  const Eigen::Vector3d a = at(4.0), b = at(12.0);
+  ASSERT_GT((b - a).norm(), 5 * kTolerance);  // the robot moved on between them
+  const SteeringRunResult wrong_order = runOpenLoop(
+      config, sensors, cruise, calibration.park_position, {b, a}, kTolerance, kDuration);
+  EXPECT_EQ(wrong_order.reached, 2);
+  EXPECT_EQ(wrong_order.reached_in_order, 1);
+  const SteeringRunResult right_order = runOpenLoop(
+      config, sensors, cruise, calibration.park_position, {a, b}, kTolerance, kDuration);
+  EXPECT_EQ(right_order.reached, 2);
+  EXPECT_EQ(right_order.reached_in_order, 2);
+  EXPECT_NE(steeringResultJson(wrong_order, "replay", "test").find("\"reached_in_order\": 1"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace flagella::control

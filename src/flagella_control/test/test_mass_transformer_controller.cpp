@@ -20,7 +20,9 @@
 
 #include "flagella_control/heading.h"
 #include "flagella_control/mass_transformer_controller.h"
+#include "flagella_sim/core/parameter_set.h"
 #include "support/allocation_counter.h"
+#include "support/temp_dir.h"
 
 namespace fc = flagella::control;
 using fc::Vec3;
@@ -342,6 +344,73 @@ TEST(MassTransformerController,
     // At rest on the target the couple vanishes: the slider cancels the offset.
     EXPECT_NEAR(plant.slider, calibration().park_position - slider_error, 0.05e-3);
     EXPECT_FALSE(controller.status().slider_saturated);
+  }
+}
+
+TEST(MassTransformerController, HoldInCycleKeepsTheSliderAtTheNeutralThroughCycleAndSettling) {
+  // A waypoint 25 deg left and 17 deg up: buckle cycles for the azimuth while the elevation loop
+  // wants the slider hundreds of micrometres off the neutral. With hold_in_cycle the slider sits
+  // at the neutral from each cycle's start until its settle_time has passed; without, the loop
+  // moves it during the cycles (the check can fail).
+  for (const bool hold : {true, false}) {
+    fc::SteeringGains gains = legacyGains();
+    gains.hold_in_cycle = hold;
+    gains.max_buckle_error = M_PI;  // every error by cycles, as on the source's robot
+    fc::MassTransformerController controller(mission({Vec3(0.5, 0.5 * std::tan(25 * kDeg), 0.15)}),
+                                             calibration(), gains);
+    Plant plant = legacyPlant();
+    double cycle_end = -1.0, largest_off = 0.0;
+    long held_steps = 0;
+    for (long k = 0; k < 150 * kRate; ++k) {
+      const fc::ControllerOutputs out = controller.step(plant.sense());
+      const fc::SteeringStatus& st = controller.status();
+      if (st.in_cycle) cycle_end = plant.time + gains.settle_time;
+      if (st.in_cycle || plant.time < cycle_end) {
+        largest_off = std::max(largest_off, std::abs(out.slider_position - st.neutral));
+        ++held_steps;
+      }
+      plant.apply(out);
+    }
+    ASSERT_GT(held_steps, 10 * kRate) << "no buckle cycle, hold " << hold;
+    if (hold)
+      EXPECT_LT(largest_off, 1e-12);
+    else
+      EXPECT_GT(largest_off, 1e-4);
+  }
+}
+
+TEST(SteeringGains, AGainsFileSetsTheGainsItNamesAndNamesTheFieldItCannotRead) {
+  flagella::testing::TempDir dir;
+  const std::string good = dir.write("gains.yaml",
+                                     "steering_gains:\n  settle_time: 8\n  "
+                                     "hold_in_cycle: 1\n  turn_threshold: 0.04\n");
+  fc::SteeringGains gains;
+  gains.load(good);
+  EXPECT_EQ(gains.settle_time, 8.0);
+  EXPECT_TRUE(gains.hold_in_cycle);
+  EXPECT_EQ(gains.turn_threshold, 0.04);
+  EXPECT_EQ(gains.max_buckle_error, fc::SteeringGains().max_buckle_error);  // not named: default
+  // The shipped file for the source's robot reads and validates.
+  fc::SteeringGains source;
+  source.load(std::string(FLAGELLA_CONFIG_DIR) + "/calibration/helical_steering_source_gains.yaml");
+  EXPECT_NO_THROW(source.validate());
+  EXPECT_TRUE(source.hold_in_cycle);
+  struct Case {
+    const char *text, *needle;
+  };
+  for (const Case& c : {Case{"steering_gains:\n  settle_tim: 8\n", "settle_tim"},
+                        Case{"steering_gains:\n  settle_time: slow\n", "settle_time"},
+                        Case{"steering_gains:\n  hold_in_cycle: 2\n", "hold_in_cycle"},
+                        Case{"gains:\n  settle_time: 8\n", "steering_gains"}}) {
+    const std::string path = dir.write("bad.yaml", c.text);
+    try {
+      fc::SteeringGains g;
+      g.load(path);
+      ADD_FAILURE() << "accepted: " << c.text;
+    } catch (const flagella::InputFileError& e) {
+      EXPECT_NE(std::string(e.what()).find(c.needle), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
   }
 }
 
@@ -726,8 +795,8 @@ TEST(MassTransformerController, InvalidGainsAndMissionsNameTheField) {
   // Gains by name (the node's parameters, --gain): every name reads back what it set.
   fc::SteeringGains named;
   for (const std::string& name : fc::SteeringGains::names()) {
-    const bool flag =
-        name == "steer_by_offset" || name == "trim_neutral" || name == "retrim_neutral";
+    const bool flag = name == "steer_by_offset" || name == "trim_neutral" ||
+                      name == "retrim_neutral" || name == "hold_in_cycle";
     const double value = flag ? 0.0 : 0.123;
     named.set(name, value);
     EXPECT_EQ(named.get(name), value) << name;

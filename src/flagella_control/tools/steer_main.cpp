@@ -54,10 +54,10 @@ int main(int argc, char** argv) {
         config, flagella::control::steeringSessionOptions(config, calibration, seed), controller,
         duration, 0.5, nullptr, progress);
     std::printf(
-        "%s, %s schedule: %d of %d waypoints reached (tolerance %.1f mm), max miss %.1f mm, "
-        "%s after %.1f s simulated (%.1f s wall), %ld buckle cycles\n",
+        "%s, %s schedule: %d of %d waypoints reached (%d in order; tolerance %.1f mm), max "
+        "miss %.1f mm, %s after %.1f s simulated (%.1f s wall), %ld buckle cycles\n",
         mission.description.c_str(), inputs.schedule.c_str(), result.reached, result.total,
-        mission.tolerance * 1e3, result.max_miss * 1e3,
+        result.reached_in_order, mission.tolerance * 1e3, result.max_miss * 1e3,
         result.finished ? "finished" : "NOT finished", result.time, result.wall_seconds,
         result.cycles);
     if (result.halted) std::fprintf(stderr, "simulator halted: %s\n", result.halt_reason.c_str());

@@ -46,6 +46,7 @@ struct SteeringInputs {
   std::string config_path, waypoints_path, calibration_path;
   std::vector<std::string> overrides;
   std::string schedule = "relax";
+  std::string gains_path;                  ///< YAML gains file (SteeringGains::load), if any
   std::vector<std::string> gain_settings;  ///< name=value
 
   /// Registers --config, --waypoints, --calibration, --set and --schedule on `app`.
@@ -64,6 +65,10 @@ struct SteeringInputs {
     app.add_option("--schedule", schedule, "buckle schedule: relax or three_level")
         ->capture_default_str()
         ->check(CLI::IsMember({"relax", "three_level"}));
+    app.add_option("--gains", gains_path,
+                   "controller gains YAML (steering_gains: name: value; e.g. "
+                   "config/calibration/helical_steering_source_gains.yaml), before any --gain")
+        ->check(CLI::ExistingFile);
     app.add_option("--gain", gain_settings,
                    "controller gain name=value (repeatable; --list-gains prints every gain with "
                    "its default, unit and meaning; e.g. max_steer_offset=8e-5)");
@@ -87,10 +92,12 @@ struct SteeringInputs {
                                   "mass-transformer), as config/helical_steering.yaml");
     return c;
   }
-  /// The default gains with the chosen schedule and the --gain settings (validated).
+  /// The default gains with the chosen schedule, the --gains file and the --gain settings
+  /// (validated).
   SteeringGains gains() const {
     SteeringGains g;
     g.schedule = scheduleFromName(schedule);
+    if (!gains_path.empty()) g.load(gains_path);
     for (const std::string& setting : gain_settings) {
       const auto [name, value] = assignment(setting, "--gain", "name=value");
       g.set(name, value);

@@ -93,7 +93,12 @@ struct SteeringGains {
   /// Buckle turns to a side only if the best cycle turns that way by at least this share of the
   /// calibrated phase-dependent deflection (else the constant part wins: no turn that way).
   double min_turn_share = 0.25;
-  double settle_time = 6.0;           ///< after a cycle, before the next [s]
+  double settle_time = 6.0;  ///< after a cycle, before the next [s]
+  /// The slider at the neutral from a buckle cycle's start until its settle_time has passed (the
+  /// elevation loop waits). On the source's robot (helical_steering_source.yaml) a cycle with
+  /// the slider 50 um off park turned the robot 5-24 deg up besides its calibrated 10.6 deg by
+  /// phase (README, "The source's steering robot").
+  bool hold_in_cycle = false;
   double max_elevation = 0.6;         ///< limit of a leg's target elevation (34 deg) [rad]
   double tilt_time_constant = 6.0;    ///< closed-loop time constant of the slider loop [s]
   double max_pitch_rate = 0.15;       ///< the slider loop asks for no faster pitch [rad/s]
@@ -148,6 +153,11 @@ struct SteeringGains {
   double get(const std::string& name) const;
   /// Every gain with its value, unit and meaning, a line each (steering_gains.cpp).
   std::string table() const;
+  /// Sets the gains a YAML file names: one top-level map `steering_gains:` of gain name: value
+  /// (flags 0 or 1), as `set` (config/calibration/helical_steering_source_gains.yaml). Throws
+  /// flagella::InputFileError naming the file and the field for an unreadable file, an unknown
+  /// gain or a value that is not a number; ranges are checked by validate().
+  void load(const std::string& path);
 };
 
 enum class SteeringMode : std::uint8_t {

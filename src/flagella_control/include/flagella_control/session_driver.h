@@ -12,8 +12,10 @@ class SessionDriver {
  public:
   /// `max_omega`: the largest |rate| the run will command [rad/s].
   SessionDriver(const flagella::SimulationConfig& config, double max_omega, std::string run);
-  /// One dt at `signed_omega` (scaled by the soft start during the first ramp_time).
-  void step(double signed_omega);
+  /// One dt at `signed_omega` (scaled by the soft start during the first ramp_time); returns
+  /// the rate applied [rad/s]. Its integral is the shaft angle a controller integrates from its
+  /// own commands, which the simulator applies as they are (no soft start).
+  double step(double signed_omega);
   /// Offers a slider position [m] (std::runtime_error if rejected).
   void commandSlider(double position);
   flagella::SimSession& session() { return session_; }

@@ -49,6 +49,10 @@ struct SteeringSample {
 
 struct SteeringRunResult {
   int reached = 0;  ///< waypoints the true path came within the tolerance of
+  /// Waypoints reached in the mission's order: the k-th counts only once the path came within the
+  /// tolerance of it after reaching the (k-1)-th (a path wandering past waypoints out of turn
+  /// scores `reached` but not this).
+  int reached_in_order = 0;
   int total = 0;
   double tolerance = 0.0;    ///< the mission's reach tolerance [m]
   std::vector<double> miss;  ///< closest approach of the true path per waypoint [m]
