@@ -192,12 +192,18 @@ double MassTransformerController::motorCommand(double time) {
 double MassTransformerController::sliderCommand(double dt) {
   const double lo = sliderLow(), hi = sliderHigh();
   if (status_.imu_stale) return last_slider_;  // no tilt: hold
-  if (gains_.hold_in_cycle && (status_.in_cycle || last_time_ < next_cycle_allowed_)) {
-    status_.neutral = neutral();  // a cycle's turn is calibrated with no couple
-    status_.steer_offset = 0.0;
-    status_.slider_saturated = false;
-    return std::clamp(neutral(), lo, hi);
-  }
+  status_.neutral = neutral();
+  status_.steer_offset = 0.0;
+  // Held through a buckle cycle and its settling: at the neutral, where a cycle's turn was
+  // calibrated (no couple); the elevation loop waits.
+  const bool held = gains_.hold_in_cycle && (status_.in_cycle || last_time_ < next_cycle_allowed_);
+  const double offset = held ? 0.0 : loopOffset(dt, lo, hi);
+  const double command = neutral() + offset;
+  status_.slider_saturated = command > hi || command < lo;
+  return std::clamp(command, lo, hi);
+}
+
+double MassTransformerController::loopOffset(double dt, double lo, double hi) {
   const double error = status_.target_elevation - elevation_;
   // The elevation loop takes the slider once the error has stayed beyond tilt_mode_threshold for
   // tilt_entry_share of the flagellum's rotation period at cruise (the head's elevation wobbles
@@ -213,16 +219,8 @@ double MassTransformerController::sliderCommand(double dt) {
   // The course shows a pitching offset's crab for a while: no neutral learning until it is gone.
   if (status_.pitching)
     learn_after_ = last_time_ + gains_.crab_lag_time + gains_.course_filter_time;
-  status_.neutral = neutral();
-  status_.steer_offset = 0.0;
-  double offset = 0.0;
-  if (gains_.steer_by_offset && !status_.pitching)
-    offset = status_.steer_offset = steerOffset();
-  else
-    offset = pitchOffset(error, dt, lo, hi);
-  const double command = neutral() + offset;
-  status_.slider_saturated = command > hi || command < lo;
-  return std::clamp(command, lo, hi);
+  if (gains_.steer_by_offset && !status_.pitching) return status_.steer_offset = steerOffset();
+  return pitchOffset(error, dt, lo, hi);
 }
 
 double MassTransformerController::steerOffset() {

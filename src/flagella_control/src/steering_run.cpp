@@ -165,11 +165,12 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
         result.waypoints = waypoints_of();
         placed = true;
       }
-      for (std::size_t i = 0; i < miss.size(); ++i)
-        miss[i] = std::min(miss[i], (s.head_position - result.waypoints[i]).norm());
       const auto next = static_cast<std::size_t>(result.reached_in_order);
-      if (next < miss.size() && (s.head_position - result.waypoints[next]).norm() <= tolerance)
-        ++result.reached_in_order;
+      for (std::size_t i = 0; i < miss.size(); ++i) {
+        const double distance = (s.head_position - result.waypoints[i]).norm();
+        miss[i] = std::min(miss[i], distance);
+        if (i == next && distance <= tolerance) ++result.reached_in_order;
+      }
     }
     if (sample_due) {
       next_sample += sample_interval;

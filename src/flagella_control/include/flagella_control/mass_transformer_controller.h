@@ -238,6 +238,9 @@ class MassTransformerController : public ControllerCore {
   /// A buckle cycle can turn along the unit direction (up, left) (min_turn_share).
   bool turnPossible(double up, double left) const;
   double sliderCommand(double dt);
+  /// The slider's offset from the neutral the elevation loop or the offset steering asks for
+  /// (its mode switching included) [m].
+  double loopOffset(double dt, double lo, double hi);
   double steerOffset();  ///< steering offset from the neutral [m]
   /// Elevation loop's offset from the neutral [m] (its integral moves the neutral).
   double pitchOffset(double error, double dt, double lo, double hi);
