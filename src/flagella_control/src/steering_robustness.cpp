@@ -143,39 +143,68 @@ RobustnessReport runRobustness(const RobustnessOptions& options,
   return report;
 }
 
+namespace {
+
+// The figures of one kind of run in the summary table.
+struct KindFigures {
+  int runs = 0, successes = 0, in_order = 0, reached = 0, reached_in_order = 0, total = 0;
+  int halts = 0;
+  long motor_stop_retries = 0;
+  std::vector<double> misses, mission_times, slider_travels;
+};
+
+KindFigures kindFigures(const RobustnessReport& report, const std::string& kind) {
+  KindFigures f;
+  for (const RobustnessRun& r : report.runs) {
+    if (r.kind != kind) continue;
+    ++f.runs;
+    const SteeringRunResult& x = r.result;
+    const bool ok = r.error.empty() && x.total > 0 && x.reached == x.total;
+    const bool ordered = ok && x.reached_in_order == x.total;
+    f.successes += ok ? 1 : 0;
+    f.in_order += ordered ? 1 : 0;
+    f.reached += x.reached;
+    f.reached_in_order += x.reached_in_order;
+    f.total += x.total;
+    f.halts += x.halted ? 1 : 0;
+    f.motor_stop_retries += x.motor_stop_retries;
+    for (double m : x.miss) f.misses.push_back(m);
+    if (ordered && !x.reach_time.empty()) f.mission_times.push_back(x.reach_time.back());
+    if (!std::isnan(x.slider_low)) f.slider_travels.push_back(x.slider_high - x.slider_low);
+  }
+  return f;
+}
+
+}  // namespace
+
 std::string robustnessSummary(const RobustnessReport& report, double tolerance) {
   std::ostringstream out;
-  char line[256];
-  std::snprintf(line, sizeof line, "%-18s %5s %9s %13s %9s %13s %13s\n", "kind", "runs", "success",
-                "waypoints", "in order", "median miss", "worst miss");
+  char line[512];
+  std::snprintf(line, sizeof line, "%-18s %5s %9s %13s %9s %13s %13s %11s %13s %6s %8s\n", "kind",
+                "runs", "success", "waypoints", "in order", "median miss", "worst miss",
+                "time to end", "slider travel", "halts", "retries");
   out << line;
   for (const char* kind : {"nominal closed", "mismatched closed", "mismatched open"}) {
-    int runs = 0, successes = 0, reached = 0, total = 0, in_order = 0, reached_in_order = 0;
-    std::vector<double> misses;
-    for (const RobustnessRun& r : report.runs) {
-      if (r.kind != kind) continue;
-      ++runs;
-      const bool ok = r.error.empty() && r.result.total > 0 && r.result.reached == r.result.total;
-      successes += ok ? 1 : 0;
-      in_order += ok && r.result.reached_in_order == r.result.total ? 1 : 0;
-      reached += r.result.reached;
-      reached_in_order += r.result.reached_in_order;
-      total += r.result.total;
-      for (double m : r.result.miss) misses.push_back(m);
-    }
-    if (runs == 0) continue;
-    const double worst = misses.empty() ? NAN : *std::max_element(misses.begin(), misses.end());
+    const KindFigures f = kindFigures(report, kind);
+    if (f.runs == 0) continue;
+    const double worst =
+        f.misses.empty() ? NAN : *std::max_element(f.misses.begin(), f.misses.end());
     std::snprintf(line, sizeof line,
-                  "%-18s %5d %8.0f%% %6d of %-4d %3d, %-4d %10.1f mm %10.1f mm\n", kind, runs,
-                  100.0 * successes / runs, reached, total, in_order, reached_in_order,
-                  median(misses) * 1e3, worst * 1e3);
+                  "%-18s %5d %8.0f%% %6d of %-4d %3d, %-4d %10.1f mm %10.1f mm %9.0f s %10.2f mm "
+                  "%6d %8ld\n",
+                  kind, f.runs, 100.0 * f.successes / f.runs, f.reached, f.total, f.in_order,
+                  f.reached_in_order, median(f.misses) * 1e3, worst * 1e3, median(f.mission_times),
+                  median(f.slider_travels) * 1e3, f.halts, f.motor_stop_retries);
     out << line;
   }
   std::snprintf(
       line, sizeof line,
       "success: every waypoint passed within %.1f mm by the true head path; misses "
       "are closest approaches per waypoint; in order: runs with every waypoint reached in the "
-      "mission's order, and waypoints so reached\n",
+      "mission's order, and waypoints so reached; time to end: median time the last waypoint "
+      "was reached over the runs in order; slider travel: median range of slider positions a "
+      "run used; halts: runs the simulator halted; retries: steps that failed after subdivision "
+      "and were retried with the motor stopped\n",
       tolerance * 1e3);
   out << line;
   return out.str();
@@ -201,7 +230,15 @@ std::string robustnessJson(const RobustnessReport& report, double tolerance) {
       << ", \"max_miss_mm\": " << jsonNumber(r.result.max_miss * 1e3) << ", \"miss_mm\": [";
     for (std::size_t k = 0; k < r.result.miss.size(); ++k)
       j << (k ? ", " : "") << jsonNumber(r.result.miss[k] * 1e3);
-    j << "], \"time_s\": " << jsonNumber(r.result.time)
+    j << "], \"reach_time_s\": [";
+    for (std::size_t k = 0; k < r.result.reach_time.size(); ++k)
+      j << (k ? ", " : "") << jsonNumber(r.result.reach_time[k]);
+    j << "], \"slider_low_m\": " << jsonNumber(r.result.slider_low)
+      << ", \"slider_high_m\": " << jsonNumber(r.result.slider_high)
+      << ", \"subdivided_steps\": " << r.result.subdivided_steps
+      << ", \"damped_steps\": " << r.result.damped_steps
+      << ", \"motor_stop_retries\": " << r.result.motor_stop_retries;
+    j << ", \"time_s\": " << jsonNumber(r.result.time)
       << ", \"wall_s\": " << jsonNumber(r.result.wall_seconds)
       << ", \"halted\": " << (r.result.halted ? "true" : "false") << ", \"error\": \""
       << jsonEscaped(r.error) << "\"}";

@@ -23,7 +23,11 @@ const std::map<std::string, std::string>& aliases() {
                                                        {"E", "robot.youngs_modulus"},
                                                        {"C_t", "effects.stokes_head.C_t"},
                                                        {"C_r", "effects.stokes_head.C_r"},
-                                                       {"l_0", "effects.com_offset.offset"}};
+                                                       {"l_0", "effects.com_offset.offset"},
+                                                       {"m_s", "slider.mass"},
+                                                       // stall torque = k_t V / R at a fixed
+                                                       // supply: scales with k_t
+                                                       {"k_t", "effects.dc_motor.stall_torque"}};
   return a;
 }
 
@@ -87,7 +91,9 @@ std::vector<std::string> modelErrorOverrides(
       } catch (const std::exception&) {
         throw flagella::ConfigError(
             "model error '" + key +
-            "': not a value of the config (use eps, E, C_t, C_r, l_0 or a section.field path)");
+            "': not a value of the config (use eps, E, C_t, C_r, l_0, m_s, k_t or a "
+            "section.field path; k_t needs effects.dc_motor in the config or a --set of "
+            "effects.dc_motor.stall_torque)");
       }
     }
     std::ostringstream entry;
@@ -146,10 +152,16 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
   SteeringRunResult result;
   double next_sample = 0.0;
   std::vector<double> miss(waypoints_of().size(), std::numeric_limits<double>::infinity());
+  result.reach_time.assign(miss.size(), NAN);
   bool placed = false;
   SteeringMode last_mode = SteeringMode::Waiting;
   const auto after_step = [&]() {
     if (view.progress) view.progress(session.time());
+    if (const flagella::Slider* slider = session.simulation().slider()) {
+      const double x = slider->state().position;
+      result.slider_low = std::isnan(result.slider_low) ? x : std::min(result.slider_low, x);
+      result.slider_high = std::isnan(result.slider_high) ? x : std::max(result.slider_high, x);
+    }
     const SteeringMode mode = view.mode();
     if (mode != last_mode) {
       result.modes.emplace_back(session.time(), mode);
@@ -169,7 +181,10 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
       for (std::size_t i = 0; i < miss.size(); ++i) {
         const double distance = (s.head_position - result.waypoints[i]).norm();
         miss[i] = std::min(miss[i], distance);
-        if (i == next && distance <= tolerance) ++result.reached_in_order;
+        if (i == next && distance <= tolerance) {
+          result.reach_time[i] = session.time();
+          ++result.reached_in_order;
+        }
       }
     }
     if (sample_due) {
@@ -200,7 +215,11 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
   result.time = report.sim_time;
   result.wall_seconds = report.wall_seconds;
   result.halted = report.halted;
-  if (report.halted) result.halt_reason = session.health().message;
+  const flagella::SessionHealth health = session.health();
+  if (report.halted) result.halt_reason = health.message;
+  result.subdivided_steps = health.subdivided_steps;
+  result.damped_steps = health.damped_steps;
+  result.motor_stop_retries = health.solver_failures;
   result.cycles = view.cycles ? view.cycles() : 0;
   return result;
 }
@@ -276,8 +295,16 @@ std::string steeringResultJson(const SteeringRunResult& r, const std::string& co
   for (std::size_t i = 0; i < r.miss.size(); ++i)
     j << (i ? ", " : "") << jsonNumber(r.miss[i] * 1e3);
   j << "],\n  \"finished\": " << (r.finished ? "true" : "false") << ",\n";
+  j << "  \"reach_time_s\": [";
+  for (std::size_t i = 0; i < r.reach_time.size(); ++i)
+    j << (i ? ", " : "") << jsonNumber(r.reach_time[i]);
+  j << "],\n  \"slider_low_m\": " << jsonNumber(r.slider_low)
+    << ",\n  \"slider_high_m\": " << jsonNumber(r.slider_high) << ",\n";
   j << "  \"halted\": " << (r.halted ? "true" : "false") << ",\n";
   if (r.halted) j << "  \"halt_reason\": \"" << jsonEscaped(r.halt_reason) << "\",\n";
+  j << "  \"subdivided_steps\": " << r.subdivided_steps
+    << ",\n  \"damped_steps\": " << r.damped_steps
+    << ",\n  \"motor_stop_retries\": " << r.motor_stop_retries << ",\n";
   j << "  \"time_s\": " << jsonNumber(r.time) << ",\n  \"wall_s\": " << jsonNumber(r.wall_seconds)
     << ",\n  \"buckle_cycles\": " << r.cycles << ",\n  \"neutral_m\": " << jsonNumber(r.neutral)
     << ",\n  \"trim_neutral_m\": " << jsonNumber(r.trim_neutral)

@@ -3,7 +3,8 @@
 // step() does not allocate; and a closed-loop steering run recorded on the helical robot, replayed
 // blind on the same model with the same sensors, retraces the same head path (the simulation is
 // deterministic and the replay applies every command on the same step). A scored run that ends
-// before the waypoints are placed counts every one of them missed.
+// before the waypoints are placed counts every one of them missed. Reach times, the slider range
+// and the model errors of the slider mass and the motor's torque constant.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,6 +13,7 @@
 
 #include "flagella_control/command_replay.h"
 #include "flagella_control/steering_run.h"
+#include "flagella_sim/simulation/simulation.h"
 #include "flagella_sim/simulation/simulation_config.h"
 #include "support/allocation_counter.h"
 
@@ -90,6 +92,13 @@ TEST(CommandReplay, ARecordedSteeringRunReplayedOnTheSameModelRetracesItsPath) {
   }
   EXPECT_GT(slider_travel, 1e-4);  // the run exercised the slider, not only the motor
   EXPECT_LT(largest, 1e-9) << "head paths of the run and its replay differ";
+  // The slider range is tracked every step: it holds every sampled position.
+  for (const SteeringSample& s : closed.samples) {
+    EXPECT_LE(closed.slider_low, s.slider);
+    EXPECT_GE(closed.slider_high, s.slider);
+  }
+  EXPECT_EQ(open.slider_low, closed.slider_low);
+  EXPECT_EQ(open.slider_high, closed.slider_high);
 }
 
 TEST(SteeringRun, ARunEndingBeforeTheWaypointsArePlacedCountsThemAllMissed) {
@@ -132,10 +141,11 @@ TEST(SteeringRun, WaypointsPassedOutOfTurnCountAsReachedButNotInOrder) {
       runOpenLoop(config, sensors, cruise, calibration.park_position, {far}, kTolerance, kDuration);
   const auto at = [&](double t) {
     for (const SteeringSample& s : path.samples)
-      if (s.time >= t) return s.position;
-    return path.samples.back().position;
+      if (s.time >= t) return s;
+    return path.samples.back();
   };
-  const Eigen::Vector3d a = at(4.0), b = at(12.0);
+  const SteeringSample sample_a = at(4.0), sample_b = at(12.0);
+  const Eigen::Vector3d a = sample_a.position, b = sample_b.position;
   ASSERT_GT((b - a).norm(), 5 * kTolerance);  // the robot moved on between them
   const SteeringRunResult wrong_order = runOpenLoop(
       config, sensors, cruise, calibration.park_position, {b, a}, kTolerance, kDuration);
@@ -145,8 +155,42 @@ TEST(SteeringRun, WaypointsPassedOutOfTurnCountAsReachedButNotInOrder) {
       config, sensors, cruise, calibration.park_position, {a, b}, kTolerance, kDuration);
   EXPECT_EQ(right_order.reached, 2);
   EXPECT_EQ(right_order.reached_in_order, 2);
+  // Reach times: A within the tolerance no later than the sample it was taken from, B no later
+  // than its own and after A; in the wrong order A (passed before B) has none.
+  ASSERT_EQ(right_order.reach_time.size(), 2u);
+  EXPECT_LE(right_order.reach_time[0], sample_a.time);
+  EXPECT_LT(right_order.reach_time[0], right_order.reach_time[1]);
+  EXPECT_LE(right_order.reach_time[1], sample_b.time);
+  EXPECT_EQ(wrong_order.reach_time[0], right_order.reach_time[1]);
+  EXPECT_TRUE(std::isnan(wrong_order.reach_time[1]));
+  // Cruising at the park position the whole run: the slider range is that one position.
+  EXPECT_DOUBLE_EQ(right_order.slider_low, calibration.park_position);
+  EXPECT_DOUBLE_EQ(right_order.slider_high, calibration.park_position);
+  EXPECT_EQ(right_order.motor_stop_retries, 0);
   EXPECT_NE(steeringResultJson(wrong_order, "replay", "test").find("\"reached_in_order\": 1"),
             std::string::npos);
+}
+
+TEST(SteeringRun, ModelErrorsOfTheSliderMassAndTheMotorTorqueConstantScaleTheirFields) {
+  const std::string config_path = std::string(FLAGELLA_CONFIG_DIR) + "/helical_steering.yaml";
+  const flagella::SimulationConfig nominal = flagella::loadSimulationConfig(config_path, {});
+  const auto wrong = [&](const std::vector<std::string>& base, const std::string& key) {
+    return flagella::loadSimulationConfig(config_path,
+                                          modelErrorOverrides(config_path, base, {{key, 1.3}}));
+  };
+  EXPECT_DOUBLE_EQ(wrong({}, "m_s").slider.mass, 1.3 * nominal.slider.mass);
+  // The torque constant is the DC motor's stall torque (k_t V / R): scaled when the run has one.
+  const std::vector<std::string> motor = {"effects.dc_motor.stall_torque=0.1"};
+  EXPECT_NEAR(flagella::Simulation(wrong(motor, "k_t")).parameter("effects.dc_motor.stall_torque"),
+              0.13, 1e-15);
+  // Without one there is nothing to scale: the error names the key and the way to add it.
+  try {
+    modelErrorOverrides(config_path, {}, {{"k_t", 1.3}});
+    ADD_FAILURE() << "k_t without a DC motor was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("'k_t'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("effects.dc_motor"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

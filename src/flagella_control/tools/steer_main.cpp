@@ -6,6 +6,7 @@
 //   config/paths/steering_demo.yaml
 //       --calibration config/calibration/helical_steering.yaml --json /tmp/steer.json
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -60,6 +61,16 @@ int main(int argc, char** argv) {
         result.reached_in_order, mission.tolerance * 1e3, result.max_miss * 1e3,
         result.finished ? "finished" : "NOT finished", result.time, result.wall_seconds,
         result.cycles);
+    std::string reach_times;
+    for (double t : result.reach_time)
+      reach_times += (reach_times.empty() ? "" : ", ") +
+                     (std::isnan(t) ? std::string("-") : std::to_string(std::lround(t)) + " s");
+    std::printf(
+        "reached in order at: %s; slider used %.2f to %.2f mm (%.2f mm of travel); solver: %ld "
+        "subdivided steps, %ld damped, %ld retried with the motor stopped\n",
+        reach_times.c_str(), result.slider_low * 1e3, result.slider_high * 1e3,
+        (result.slider_high - result.slider_low) * 1e3, result.subdivided_steps,
+        result.damped_steps, result.motor_stop_retries);
     if (result.halted) std::fprintf(stderr, "simulator halted: %s\n", result.halt_reason.c_str());
     if (!json_path.empty()) {
       std::ofstream json(json_path);

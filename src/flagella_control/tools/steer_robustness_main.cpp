@@ -27,7 +27,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 10000));
   app.add_option("--error", options.error, "relative model error of each key (default 0.2)")
       ->check(CLI::Range(0.0, 0.9));
-  app.add_option("--keys", options.keys, "model values made wrong (default: eps E C_t C_r l_0)");
+  app.add_option(
+      "--keys", options.keys,
+      "model values made wrong (default: eps E C_t C_r l_0; also m_s: slider mass, k_t: motor "
+      "torque constant, as the stall torque of effects.dc_motor, or any "
+      "section.field)");
   app.add_option("--first-seed", options.first_seed, "seed of the first run (default 1)");
   app.add_option("--jobs", options.jobs, "runs at once (default: the core count)")
       ->check(CLI::Range(1, 64));

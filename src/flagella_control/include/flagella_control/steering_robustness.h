@@ -19,6 +19,8 @@ struct RobustnessOptions {
   std::vector<std::string> overrides;  ///< applied to every run, before the model errors
   int runs = 10;
   double error = 0.2;  ///< relative model error of each key
+  /// Model values made wrong: aliases eps, E, C_t, C_r, l_0, m_s (slider mass), k_t (the motor's
+  /// torque constant: effects.dc_motor.stall_torque) or section.field paths.
   std::vector<std::string> keys = {"eps", "E", "C_t", "C_r", "l_0"};
   unsigned first_seed = 1;
   int jobs = 1;

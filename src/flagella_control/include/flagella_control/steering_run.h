@@ -62,6 +62,14 @@ struct SteeringRunResult {
   double wall_seconds = 0.0;
   bool halted = false;
   std::string halt_reason;  ///< the simulator's message when it halted
+  /// Time each waypoint was reached in the mission's order [s] (NaN: not so reached).
+  std::vector<double> reach_time;
+  /// Slider positions the run used: lowest and highest over every step [m] (NaN: no slider).
+  double slider_low = NAN, slider_high = NAN;
+  /// The simulator's failure strategy at work (README, "Numerical failure"): steps solved only as
+  /// subdivided steps, (sub)steps solved only by the damped retry, and steps that failed even so
+  /// and were retried with the motor stopped (a run halts only when that fails too).
+  long subdivided_steps = 0, damped_steps = 0, motor_stop_retries = 0;
   long cycles = 0;
   /// The controller's slider neutral at the end, and the start frame's pitch trim (NaN when
   /// none; open-loop replays: NaN) [m].

@@ -143,6 +143,7 @@ SessionHealth SimSession::health() const {
   h.steps = steps_;
   h.newton_iterations = s.newton_iterations;
   h.subdivided_steps = s.subdivided_steps;
+  h.damped_steps = s.damped_steps;
   h.solver_failures = solver_failures_;
   const CommandGate& motor_gate = *sim_->motor().gate();
   h.motor_accepted = motor_gate.acceptedCount();

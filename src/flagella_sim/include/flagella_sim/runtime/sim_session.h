@@ -40,6 +40,7 @@ struct SessionHealth {
   long steps = 0;
   long newton_iterations = 0;
   long subdivided_steps = 0;
+  long damped_steps = 0;     ///< (sub)steps solved only by the damped (line-search) retry
   long solver_failures = 0;  ///< steps that failed even after subdivision
   long motor_accepted = 0, motor_rejected = 0;
   long slider_accepted = 0, slider_rejected = 0;
