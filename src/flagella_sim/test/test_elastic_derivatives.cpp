@@ -1,5 +1,6 @@
 // Finite-difference checks of the elastic gradients and Hessians (docs/model.md 1.5 "required unit
-// test"), including junction springs with flipped edges. Frames are transported from the base state
+// test"), including junction springs with flipped edges and a motor-driven spring whose shaft frame
+// is turned back by its twist (docs/model.md 1.9). Frames are transported from the base state
 // and the reference twist is tracked through the time-parallel transport path, as the stepper does.
 #include <gtest/gtest.h>
 
@@ -15,19 +16,20 @@ namespace {
 
 struct ElasticProbe {
   const RodNetwork& net;
-  ReferenceFrames base;    // frames at the base configuration
-  bool stretching = true;  // false: the bending-twisting energy alone
+  ReferenceFrames base;             // frames at the base configuration
+  bool stretching = true;           // false: the bending-twisting energy alone
+  NaturalTwistOverride twist = {};  // a driven (motor) spring
 
   double energy(const VecX& q) const {
     const ReferenceFrames fr = transportFrames(net, q, base);
-    return (stretching ? stretchingEnergy(net, q) : 0.0) + bendTwistEnergy(net, q, fr);
+    return (stretching ? stretchingEnergy(net, q) : 0.0) + bendTwistEnergy(net, q, fr, twist);
   }
   VecX gradient(const VecX& q, SparseAssembler* hess = nullptr) const {
     const ReferenceFrames fr = transportFrames(net, q, base);
     VecX g = VecX::Zero(net.ndof());
     if (hess) hess->begin();
     if (stretching) addStretchingGradientHessian(net, fr, g, hess);
-    addBendTwistGradientHessian(net, q, fr, g, hess);
+    addBendTwistGradientHessian(net, q, fr, g, hess, twist);
     return g;
   }
 };
@@ -55,8 +57,8 @@ Scenario deformedScenario(RodNetwork net, unsigned seed, double amplitude, doubl
 // theta entries cannot hide behind the position ones (there the theta step is 1e-5: with 1e-6
 // the second differences' round-off reaches 1.4e-4 of the theta-theta block).
 void checkGradientAndHessian(const Scenario& s, double h_pos, double h_theta,
-                             bool stretching = true) {
-  ElasticProbe probe{s.net, s.frames, stretching};
+                             bool stretching = true, NaturalTwistOverride twist = {}) {
+  ElasticProbe probe{s.net, s.frames, stretching, twist};
   SparseAssembler hess(s.net.ndof());
   const VecX g = probe.gradient(s.q, &hess);
   const MatX H = MatX(hess.finish());
@@ -125,6 +127,51 @@ TEST(ElasticDerivatives, JunctionWithFlippedEdges) {
     checkGradientAndHessian(s, 1e-7, 1e-6);
     checkGradientAndHessian(s, 1e-7, 1e-5, false);
   }
+}
+
+// The rod's first spring driven like the motor (docs/model.md 1.9), its edges' frames `turn` apart
+// about the tangent: every edge after the first turned by `turn`, the natural twist with it.
+Scenario drivenScenario(double turn, unsigned seed, double amplitude, double angle,
+                        NaturalTwistOverride& twist) {
+  Scenario s = deformedScenario(testing::makeStraightRod(6, 0.03, testing::vpsMaterial()), seed,
+                                amplitude, angle);
+  for (int j = 1; j < s.net.numEdges(); ++j) s.q(s.net.thetaIndex(j)) += turn;
+  twist = {0, s.net.bend_twist_springs[0].tau_bar + turn};
+  return s;
+}
+
+TEST(ElasticDerivatives, DrivenSpringWithItsShaftFrameTurnedBack) {
+  for (double turn : {1.0, 3.0, M_PI, 7.5}) {
+    NaturalTwistOverride twist;
+    const Scenario s = drivenScenario(turn, 7u, 1.5e-3, 0.2, twist);
+    checkGradientAndHessian(s, 1e-7, 1e-6, true, twist);
+    checkGradientAndHessian(s, 1e-7, 1e-5, false, twist);
+  }
+}
+
+TEST(ElasticDerivatives, DrivenJointBendsAlikeAtEveryMotorAngle) {
+  // docs/model.md 1.9: with the twist at its natural value the motor joint's bending energy does
+  // not depend on the motor angle. Averaged directors without the frame turn lose it at pi.
+  constexpr double kBend = 0.02;  // [rad] of the first edge about the second node
+  const auto bending = [&](double turn, bool with_frame_turn) {
+    NaturalTwistOverride twist;
+    Scenario s = drivenScenario(turn, 8u, 0.0, 0.0, twist);
+    const Vec3 c = s.q.segment<3>(3), along = s.q.segment<3>(6) - c;
+    const Vec3 side = along.unitOrthogonal();
+    s.q.segment<3>(0) =
+        c - along.norm() * (std::cos(kBend) * along.normalized() + std::sin(kBend) * side);
+    const ReferenceFrames f = transportFrames(s.net, s.q, s.frames);
+    if (with_frame_turn) return bendTwistEnergy(s.net, s.q, f, twist);
+    RodNetwork plain = s.net;  // the natural twist moved, the frame not turned
+    plain.bend_twist_springs[0].tau_bar = twist.tau_bar;
+    return bendTwistEnergy(plain, s.q, f);
+  };
+  const double at_rest = bending(0.0, true);
+  ASSERT_GT(at_rest, 0.0);
+  for (double turn : {M_PI / 2, 3.0, M_PI, 4.0, 3 * M_PI / 2, 2 * M_PI + 3.0})
+    EXPECT_NEAR(bending(turn, true), at_rest, 1e-9 * at_rest) << "motor angle " << turn;
+  // Without the turn the joint is soft half a revolution on: the check above can fail.
+  EXPECT_LT(bending(M_PI, false), 1e-3 * at_rest);
 }
 
 TEST(ElasticDerivatives, RestStateHasZeroEnergyAndForce) {

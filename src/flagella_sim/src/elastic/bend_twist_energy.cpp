@@ -188,10 +188,22 @@ SpringDofMap springDofMap(const RodNetwork& net, const BendTwistSpring& s) {
   return map;
 }
 
-double bendTwistEnergy(const RodNetwork& net, const VecX& q, const ReferenceFrames& frames) {
+BendTwistSpring drivenSpring(const RodNetwork& net, const NaturalTwistOverride& twist) {
+  BendTwistSpring driven = net.bend_twist_springs.at(twist.spring);
+  // docs/model.md 1.9: the shaft's frame turned back by the twist gained since t = 0
+  driven.frame_turn = twist.tau_bar - driven.tau_bar;
+  driven.tau_bar = twist.tau_bar;
+  return driven;
+}
+
+double bendTwistEnergy(const RodNetwork& net, const VecX& q, const ReferenceFrames& frames,
+                       const NaturalTwistOverride& twist) {
   double energy = 0.0;
+  BendTwistSpring driven;
+  if (twist.spring >= 0) driven = drivenSpring(net, twist);
   for (size_t i = 0; i < net.bend_twist_springs.size(); ++i) {
-    const BendTwistSpring& s = net.bend_twist_springs[i];
+    const BendTwistSpring& s =
+        static_cast<int>(i) == twist.spring ? driven : net.bend_twist_springs[i];
     energy +=
         bendTwistTerms(springGeometry(net, s, q, frames, static_cast<int>(i)), s, false).energy;
   }
@@ -202,10 +214,7 @@ void addBendTwistGradientHessian(const RodNetwork& net, const VecX& q,
                                  const ReferenceFrames& frames, VecX& gradient,
                                  SparseAssembler* hessian, const NaturalTwistOverride& twist) {
   BendTwistSpring driven;
-  if (twist.spring >= 0) {
-    driven = net.bend_twist_springs.at(twist.spring);
-    driven.tau_bar = twist.tau_bar;
-  }
+  if (twist.spring >= 0) driven = drivenSpring(net, twist);
   thread_local MaterialFrames material;  // storage reused across calls
   materialFrames(net, q, frames, material);
   for (size_t i = 0; i < net.bend_twist_springs.size(); ++i) {

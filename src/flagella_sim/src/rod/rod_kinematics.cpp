@@ -165,8 +165,14 @@ SpringGeometry springGeometryWith(const RodNetwork& net, const BendTwistSpring& 
   g.tf = sp.sign_f * fr.tangent[sp.edge_f];
   g.m1e = m1e;
   g.m2e = m2e;
-  g.m1f = m1f;
-  g.m2f = m2f;
+  if (sp.frame_turn == 0.0) {
+    g.m1f = m1f;
+    g.m2f = m2f;
+  } else {  // docs/model.md 1.9: F's directors at theta_F - frame_turn
+    const double c = std::cos(sp.frame_turn), s = std::sin(sp.frame_turn);
+    g.m1f = c * m1f - s * m2f;
+    g.m2f = s * m1f + c * m2f;
+  }
   // docs/model.md 1.3: kb = 2 (t_e x t_f) / (1 + t_e.t_f), kappa1 = 1/2 (m2e+m2f).kb, kappa2 = -1/2
   // (m1e+m1f).kb
   g.kb = g.te.cross(g.tf) * (2.0 / (1.0 + g.te.dot(g.tf)));

@@ -485,8 +485,9 @@ MotorLoad ImplicitStepper::motorLoad(const RodState& state, double omega_cmd,
   load.time = time_next;
   const int index = net_.parts.motor_spring;
   if (index < 0) return load;
-  BendTwistSpring spring = net_.bend_twist_springs[index];
-  spring.tau_bar = motor_tau_bar0_ + state.motor_twist_offset;  // natural twist at t_k
+  // natural twist at t_k
+  const BendTwistSpring spring =
+      drivenSpring(net_, {index, motor_tau_bar0_ + state.motor_twist_offset});
   const SpringEnergyTerms terms =
       bendTwistTerms(springGeometry(net_, spring, state.q, state.frames, index), spring, false);
   const SpringDofMap map = springDofMap(net_, spring);

@@ -23,14 +23,19 @@ struct SpringEnergyTerms {
 SpringEnergyTerms bendTwistTerms(const SpringGeometry& g, const BendTwistSpring& spring,
                                  bool with_hessian);
 
-double bendTwistEnergy(const RodNetwork& net, const VecX& q, const ReferenceFrames& frames);
-
 /// A spring whose natural twist is not the network's: the motor spring, driven by the motor
 /// (docs/model.md 1.9). spring < 0: none.
 struct NaturalTwistOverride {
   int spring = -1;
   double tau_bar = 0.0;
 };
+
+/// The network's spring `twist.spring` driven to `twist.tau_bar`: that natural twist, and the
+/// shaft's frame turned back by the twist gained since t = 0 (BendTwistSpring::frame_turn).
+BendTwistSpring drivenSpring(const RodNetwork& net, const NaturalTwistOverride& twist);
+
+double bendTwistEnergy(const RodNetwork& net, const VecX& q, const ReferenceFrames& frames,
+                       const NaturalTwistOverride& twist = {});
 
 /// Adds the gradient (and Hessian if non-null) of all bending-twisting springs, mapping the
 /// local representation back to global DOFs with the orientation signs (docs/model.md 1.6).

@@ -39,6 +39,11 @@ struct BendTwistSpring {
   double kappa_bar1 = 0.0;      ///< natural material curvatures (set at t = 0)
   double kappa_bar2 = 0.0;
   double tau_bar = 0.0;  ///< natural twist (time-varying for the motor spring, docs/model.md 1.9)
+  /// Angle by which edge F's material frame is turned back about t_F before the curvature is
+  /// taken: the motor's natural twist gained since t = 0, so that the averaged directors do not
+  /// vanish when the head and shaft frames are half a turn apart (docs/model.md 1.9). 0 for
+  /// every other spring.
+  double frame_turn = 0.0;
 };
 
 /// Named groups of nodes and edges that outputs, effects and messages refer to.
