@@ -40,6 +40,10 @@ MassTransformerController::MassTransformerController(WaypointMission mission,
   calibration_.validate();
   gains_.validate();
   schedule_ = &calibration_.schedule(gains_.schedule);
+  if (gains_.cycle_pitch && schedule_->up_per_slider == 0.0)
+    throw std::invalid_argument(
+        "steering gains: cycle_pitch needs a calibration with the schedule's up_per_slider "
+        "(flagella_steer_calibrate --slider-pulses)");
   pitch_model_ = PitchModelEstimator(calibration_.pitch_rate_per_slider, calibration_.park_position,
                                      gains_.pitch_forgetting_time);
   world_points_.resize(mission_.points.size(), Vec3::Zero());
@@ -70,6 +74,10 @@ void MassTransformerController::reset() {
   turn_side_ = 0.0;
   course_axis_ = Vec3::UnitX();
   cycle_start_ = next_cycle_allowed_ = 0.0;
+  status_.park_estimate = calibration_.park_position;
+  cycle_before_ = Vec3::UnitX();
+  cycle_pred_up_ = cycle_pred_left_ = 0.0;
+  cycle_to_measure_ = false;
   trim_.reset();
   pitch_model_.reset();
   last_retrim_ = cycle_up_ = cycle_elevation_ = 0.0;
@@ -125,7 +133,7 @@ void MassTransformerController::guide(double time) {
     stall_reference_ = abs_error;
   }
   const bool stalled = gains_.stall_time > 0.0 && time - aligned_since_ > gains_.stall_time;
-  if (!status_.flipping && time >= holdoff_until_ &&
+  if (!gains_.cycle_pitch && !status_.flipping && time >= holdoff_until_ &&
       (abs_error > gains_.large_turn || stalled ||
        (!status_.turn_possible && abs_error > gains_.blocked_turn))) {
     status_.flipping = true;
@@ -161,7 +169,10 @@ double MassTransformerController::motorCommand(double time) {
     status_.in_cycle = false;
     cycle_elevation_ += cycle_up_;  // the pitch model sees the cycle's turn as its own
     next_cycle_allowed_ = time + gains_.settle_time;
+    status_.cycle_offset = 0.0;
+    cycle_to_measure_ = gains_.cycle_pitch;
   }
+  if (gains_.cycle_pitch) return cyclePitchCommand(time);
   // Buckle cycles turn the direction of travel toward the waypoint, in azimuth and elevation
   // (the cycle's turn is a direction in the plane normal to travel chosen by the flagellum's
   // phase), not during a turn at elevation or the pitch back from it.
@@ -192,13 +203,17 @@ double MassTransformerController::motorCommand(double time) {
 double MassTransformerController::sliderCommand(double dt) {
   const double lo = sliderLow(), hi = sliderHigh();
   if (status_.imu_stale) return last_slider_;  // no tilt: hold
+  if (gains_.cycle_pitch) {                    // at the park estimate, offset through a cycle
+    const double command = status_.park_estimate + status_.cycle_offset;
+    status_.slider_saturated = command > hi || command < lo;
+    return std::clamp(command, lo, hi);
+  }
   status_.neutral = neutral();
   status_.steer_offset = 0.0;
   // Held through a buckle cycle and its settling: at the neutral, where a cycle's turn was
   // calibrated (no couple); the elevation loop waits.
   const bool held = gains_.hold_in_cycle && (status_.in_cycle || last_time_ < next_cycle_allowed_);
-  const double offset = held ? 0.0 : loopOffset(dt, lo, hi);
-  const double command = neutral() + offset;
+  const double command = held ? neutral() : neutral() + loopOffset(dt, lo, hi);
   status_.slider_saturated = command > hi || command < lo;
   return std::clamp(command, lo, hi);
 }
@@ -302,6 +317,7 @@ ControllerOutputs MassTransformerController::step(const ControllerInputs& in) {
   }
   guide(in.time);
   retrimNeutral(in.time);
+  if (gains_.cycle_pitch) learnPark();
   if (status_.waypoint >= static_cast<int>(world_points_.size())) {
     status_.mode = SteeringMode::Finished;
     status_.message = "all waypoints reached";

@@ -37,6 +37,8 @@ void validateSchedule(const BuckleSchedule& s, const std::string& name, double t
   requireSign(name + ".roll_sign", s.roll_sign);
   requireSign(name + ".shaft_sign", s.shaft_sign);
   requireInRange(kContext, name + ".phase_offset", s.phase_offset, -M_PI, M_PI);
+  requireFinite(kContext, name + ".up_per_slider", s.up_per_slider);
+  requireFinite(kContext, name + ".left_per_slider", s.left_per_slider);
   requireInRange(kContext, name + ".phase_spread", s.phase_spread, 0.0, M_PI);
 }
 
@@ -60,6 +62,10 @@ void writeSchedule(std::ostream& out, const std::string& name, const BuckleSched
   out << line(4, "phase_offset: " + numberText(s.phase_offset), "  + phase_offset [rad]");
   out << line(4, "phase_spread: " + numberText(s.phase_spread),
               "RMS residual of the turn over the calibration pulses [rad]");
+  out << line(4, "up_per_slider: " + numberText(s.up_per_slider),
+              "turn up per metre of slider off park held through the cycle [rad/m]");
+  out << line(4, "left_per_slider: " + numberText(s.left_per_slider),
+              "turn left per metre of slider off park held through the cycle [rad/m]");
 }
 
 BuckleSchedule readSchedule(MapReader& parent, const std::string& key, BuckleScheduleKind kind) {
@@ -79,6 +85,8 @@ BuckleSchedule readSchedule(MapReader& parent, const std::string& key, BuckleSch
   s.shaft_sign = m.number("shaft_sign");
   s.phase_offset = m.number("phase_offset");
   s.phase_spread = m.number("phase_spread");
+  if (m.has("up_per_slider")) s.up_per_slider = m.number("up_per_slider");
+  if (m.has("left_per_slider")) s.left_per_slider = m.number("left_per_slider");
   m.rejectUnknown();
   return s;
 }
@@ -130,6 +138,7 @@ void SteeringCalibration::validate() const {
   requireFinite(kContext, "slider_min", slider_min);
   requireInRange(kContext, "slider_max", slider_max, slider_min + 1e-9, 1.0);
   requireInRange(kContext, "park_position", park_position, slider_min, slider_max);
+  requireFinite(kContext, "park_pitch_rate", park_pitch_rate);
 }
 
 SteeringCalibration loadSteeringCalibration(const std::string& path) {
@@ -144,6 +153,7 @@ SteeringCalibration loadSteeringCalibration(const std::string& path) {
   c.pitch_rate_per_slider = m.number("pitch_rate_per_slider");
   c.crab_per_slider = m.number("crab_per_slider");
   c.park_position = m.number("park_position");
+  if (m.has("park_pitch_rate")) c.park_pitch_rate = m.number("park_pitch_rate");
   c.slider_min = m.number("slider_min");
   c.slider_max = m.number("slider_max");
   c.source = m.string("source");
@@ -176,6 +186,8 @@ void saveSteeringCalibration(const SteeringCalibration& c, const std::string& pa
   out << line(2, "crab_per_slider: " + numberText(c.crab_per_slider),
               "course minus axis azimuth per slider metre, cruising level [rad/m]");
   out << line(2, "park_position: " + numberText(c.park_position), "slider at l = 0 [m]");
+  out << line(2, "park_pitch_rate: " + numberText(c.park_pitch_rate),
+              "nose-up pitch rate cruising at park [rad/s]");
   out << line(2, "slider_min: " + numberText(c.slider_min), "travel [m]");
   out << line(2, "slider_max: " + numberText(c.slider_max), "travel [m]");
   out << line(2, "source: " + quotedText(c.source), "how it was obtained");

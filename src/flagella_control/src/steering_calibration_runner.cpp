@@ -47,6 +47,11 @@ void SteeringCalibrationOptions::validate() const {
   requireInRange(kOptions, "crab_step", crab_step, 1e-7, 1e-3);
   requireInRange(kOptions, "crab_settle", crab_settle, 0.0, 1e4);
   requirePositive(kOptions, "crab_measure", crab_measure, "s");
+  if (slider_pulses < 0 || slider_pulses > 1000)
+    throw std::invalid_argument(
+        "steering calibration options: slider_pulses must be in [0, 1000], got " +
+        std::to_string(slider_pulses));
+  requireInRange(kOptions, "cycle_slider_step", cycle_slider_step, 1e-7, 1e-2);
 }
 
 double measureCrab(const flagella::SimulationConfig& config, double cruise_omega, double slider,
@@ -99,11 +104,35 @@ void fitPhaseLaw(const std::vector<PulseObservation>& pulses, BuckleSchedule& sc
   }
 }
 
+void fitSliderTurn(const std::vector<PulseObservation>& plus,
+                   const std::vector<PulseObservation>& minus, double step,
+                   BuckleSchedule& schedule) {
+  if (plus.empty() || minus.empty() || !(step > 0.0))
+    throw std::invalid_argument("slider turn: needs pulses at both offsets and a step > 0");
+  // Mean residual of the phase law (fitted at park) over one side's cycles.
+  const auto residual = [&](const std::vector<PulseObservation>& pulses, double& up, double& left) {
+    up = left = 0.0;
+    for (const PulseObservation& p : pulses) {
+      double pu = 0.0, pl = 0.0;
+      schedule.predictedTurn(p.roll, p.shaft, pu, pl);
+      up += (p.up - pu) / pulses.size();
+      left += (p.left - pl) / pulses.size();
+    }
+  };
+  double up_plus, left_plus, up_minus, left_minus;
+  residual(plus, up_plus, left_plus);
+  residual(minus, up_minus, left_minus);
+  schedule.up_per_slider = (up_plus - up_minus) / (2.0 * step);
+  schedule.left_per_slider = (left_plus - left_minus) / (2.0 * step);
+}
+
 std::vector<PulseObservation> observePulses(const flagella::SimulationConfig& config,
                                             const BuckleSchedule& schedule, double cruise_omega,
-                                            const SteeringCalibrationOptions& options) {
+                                            const SteeringCalibrationOptions& options, int count,
+                                            double cycle_offset) {
   SessionDriver driver(config, schedule.pulse_omega,
                        std::string("pulses (") + scheduleName(schedule.kind) + ")");
+  const double rest = config.slider.enabled ? config.slider.initial_position : 0.0;
   const auto cruise = [&](double) { return cruise_omega; };
   Vec3 sum = Vec3::Zero();
   double shaft = 0.0;
@@ -111,15 +140,17 @@ std::vector<PulseObservation> observePulses(const flagella::SimulationConfig& co
   sum.setZero();
   advance(driver, options.window, cruise, sum, shaft);
   std::vector<PulseObservation> pulses;
-  for (int i = 0; i < options.pulses; ++i) {
+  for (int i = 0; i < count; ++i) {
     const Vec3 before = sum.normalized();
     PulseObservation p;
     p.roll = attitudeOf(driver).roll;
     p.shaft = shaft;
     Vec3 ignored = Vec3::Zero();
+    if (cycle_offset != 0.0) driver.commandSlider(rest + cycle_offset);
     advance(
         driver, schedule.cycleDuration(),
         [&](double s) { return schedule.omegaAt(s, cruise_omega); }, ignored, shaft);
+    if (cycle_offset != 0.0) driver.commandSlider(rest);
     advance(driver, options.after_cycle, cruise, ignored, shaft);
     sum.setZero();
     advance(driver, options.window, cruise, sum, shaft);
@@ -186,13 +217,23 @@ SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
   c.three_level.pulse_omega = pulse_omega;
   c.three_level.pulse_duration = options.pulse_duration;
   for (BuckleSchedule* schedule : {&c.relax, &c.three_level}) {
-    fitPhaseLaw(observePulses(config, *schedule, c.cruise_omega, options), *schedule);
+    fitPhaseLaw(observePulses(config, *schedule, c.cruise_omega, options, options.pulses),
+                *schedule);
+    if (options.slider_pulses > 0 && config.slider.enabled) {
+      const double step = options.cycle_slider_step;
+      fitSliderTurn(
+          observePulses(config, *schedule, c.cruise_omega, options, options.slider_pulses, step),
+          observePulses(config, *schedule, c.cruise_omega, options, options.slider_pulses, -step),
+          step, *schedule);
+    }
     const double deg = 180 / M_PI;
     report(std::string(scheduleName(schedule->kind)) + ": per cycle, constant turn (up " +
            numberString(schedule->bias_up * deg) + ", left " +
            numberString(schedule->bias_left * deg) + ") deg plus " +
            numberString(schedule->deflection * deg) + " deg by phase; residual " +
-           numberString(schedule->phase_spread * deg) + " deg");
+           numberString(schedule->phase_spread * deg) + " deg; per um of slider held through " +
+           "the cycle (up " + numberString(schedule->up_per_slider * 1e-6 * deg) + ", left " +
+           numberString(schedule->left_per_slider * 1e-6 * deg) + ") deg");
   }
   // 4. Slider: park position (no couple at the nominal l_0) and pitch rate per metre.
   {
@@ -209,6 +250,9 @@ SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
     double shaft = 0.0;
     const auto cruise = [&](double) { return c.cruise_omega; };
     advance(driver, options.settle_time, cruise, ignored, shaft);
+    // The robot's own pitching at park, over a whole window (the head wobbles with the
+    // flagellum's turn).
+    c.park_pitch_rate = elevationRateOver(driver, options.window, c.cruise_omega);
     driver.commandSlider(
         std::clamp(c.park_position + options.slider_step, c.slider_min, c.slider_max));
     const double step =
@@ -217,7 +261,8 @@ SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
     const double slope = elevationRateOver(driver, options.pitch_window, c.cruise_omega);
     c.pitch_rate_per_slider = slope / step;
     report("slider: park " + numberString(c.park_position * 1e3) + " mm, pitch rate " +
-           numberString(c.pitch_rate_per_slider * 1e-3 * 180 / M_PI) + " deg/s per mm");
+           numberString(c.pitch_rate_per_slider * 1e-3 * 180 / M_PI) + " deg/s per mm; at park " +
+           numberString(c.park_pitch_rate * 180 / M_PI) + " deg/s");
   }
   // 5. Crab angle per slider metre: parked a few micrometres to either side (docs/model.md 7.4).
   {

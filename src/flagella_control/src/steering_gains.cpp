@@ -62,6 +62,13 @@ constexpr NamedGain kNamedGains[] = {
      "turn to a side only if the best cycle turns that way by this share of the calibrated "
      "deflection"},
     {"settle_time", &SteeringGains::settle_time, "s", "after a buckle cycle, before the next"},
+    {"max_cycle_offset", &SteeringGains::max_cycle_offset, "m",
+     "cycle_pitch: largest slider offset from the park estimate through a cycle"},
+    {"max_cycle_up", &SteeringGains::max_cycle_up, "rad",
+     "cycle_pitch: largest up- or down-turn one cycle is asked for"},
+    {"park_learning", &SteeringGains::park_learning, "",
+     "cycle_pitch: share of a cycle's measured up-turn error corrected in the park estimate"},
+
     {"max_elevation", &SteeringGains::max_elevation, "rad", "limit of a leg's target elevation"},
     {"tilt_time_constant", &SteeringGains::tilt_time_constant, "s",
      "closed-loop time constant of the slider (elevation) loop"},
@@ -124,6 +131,10 @@ constexpr NamedFlag kNamedFlags[] = {
      "1: re-trim the neutral from the pitch model learnt over the mission"},
     {"hold_in_cycle", &SteeringGains::hold_in_cycle,
      "1: the slider at the neutral during a buckle cycle and its settle_time (no elevation loop)"},
+    {"cycle_pitch", &SteeringGains::cycle_pitch,
+     "1: the elevation by buckle cycles alone, through the slider's offset held through each "
+     "cycle (the slider otherwise at the park estimate, learnt from the cycles' turns)"},
+
 };
 }  // namespace
 
@@ -150,6 +161,9 @@ void SteeringGains::validate() const {
   requireInRange(kContext, "phase_window", phase_window, 0.01, M_PI);
   requireInRange(kContext, "min_turn_share", min_turn_share, 0.0, 1.0);
   requireInRange(kContext, "settle_time", settle_time, 0.0, 600.0);
+  requireInRange(kContext, "max_cycle_offset", max_cycle_offset, 0.0, 0.01);
+  requireInRange(kContext, "max_cycle_up", max_cycle_up, 0.0, M_PI / 2);
+  requireInRange(kContext, "park_learning", park_learning, 0.0, 1.0);
   requireInRange(kContext, "max_elevation", max_elevation, 0.0, flip_elevation);
   requireInRange(kContext, "tilt_time_constant", tilt_time_constant, 0.1, 600.0);
   requireInRange(kContext, "max_pitch_rate", max_pitch_rate, 1e-3, 10.0);
@@ -182,6 +196,12 @@ std::vector<std::string> SteeringGains::names() {
   for (const NamedGain& g : kNamedGains) all.emplace_back(g.name);
   for (const NamedFlag& f : kNamedFlags) all.emplace_back(f.name);
   return all;
+}
+
+bool SteeringGains::isFlag(const std::string& name) {
+  for (const NamedFlag& f : kNamedFlags)
+    if (name == f.name) return true;
+  return false;
 }
 
 void SteeringGains::set(const std::string& name, double value) {

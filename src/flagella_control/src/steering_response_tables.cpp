@@ -63,7 +63,8 @@ std::vector<BuckleTurnRow> measureBuckleTurnTable(
       for (BuckleSchedule* s : {&row.relax, &row.three_level}) {
         s->pulse_omega = factor * calibration.buckling_threshold;
         s->pulse_duration = duration;
-        fitPhaseLaw(observePulses(config, *s, calibration.cruise_omega, options), *s);
+        fitPhaseLaw(observePulses(config, *s, calibration.cruise_omega, options, options.pulses),
+                    *s);
       }
       rows.push_back(row);
       if (progress)

@@ -87,6 +87,9 @@ struct Plant {
   fc::SteeringCalibration truth = calibration();
   fc::BuckleScheduleKind kind = fc::BuckleScheduleKind::Relax;
   double shaft = 0.0, cycle_left = -1.0, turn_up = 0.0, turn_left = 0.0, time = 0.0;
+  // A cycle's extra turn per metre of the slider command at its start off the true park
+  // (park_position - slider_error), as the schedule's up_per_slider and left_per_slider.
+  double cycle_up_per_slider = 0.0, cycle_left_per_slider = 0.0;
   double last_motor = 0.0;
   bool imu = true, camera = true;
   int steps = 0;
@@ -122,6 +125,9 @@ struct Plant {
     if (cycle_left < 0.0 && last_motor == truth.cruise_omega &&
         out.motor_command != truth.cruise_omega && out.motor_command > 0.0) {
       s.predictedTurn(roll, shaft, turn_up, turn_left);
+      const double off_park = out.slider_position - (truth.park_position - slider_error);
+      turn_up += cycle_up_per_slider * off_park;
+      turn_left += cycle_left_per_slider * off_park;
       cycle_left = s.cycleDuration();
     }
     last_motor = out.motor_command;
@@ -347,6 +353,87 @@ TEST(MassTransformerController,
   }
 }
 
+// The source robot's way (cycle_pitch): a slider offset held through a cycle turns the robot up
+// by the schedule's up_per_slider; the controller keeps the slider at its park estimate
+// otherwise and learns that estimate from each cycle's measured up-turn.
+fc::SteeringCalibration cyclePitchCalibration() {
+  fc::SteeringCalibration c = calibration();
+  c.relax.up_per_slider = 4e3;     // [rad/m]: 0.23 deg per um
+  c.relax.left_per_slider = -3e3;  // [rad/m]
+  c.relax.deflection = 10 * kDeg;  // the source robot's relax cycle
+  return c;
+}
+
+fc::SteeringGains cyclePitchGains() {
+  fc::SteeringGains g;
+  g.steer_by_offset = false;
+  g.cycle_pitch = true;
+  g.settle_time = 8.0;
+  return g;
+}
+
+TEST(MassTransformerController, CyclePitchLearnsTheTrueParkFromTheCyclesTurns) {
+  // The true park 15 um off the calibrated one: a cycle there turns 3.4 deg more up than
+  // predicted. With learning the estimate comes within 2 um of the truth; without, it stays.
+  constexpr double kParkError = 15e-6;  // [m]
+  for (const double learning : {0.5, 0.0}) {
+    fc::SteeringGains gains = cyclePitchGains();
+    gains.park_learning = learning;
+    const fc::SteeringCalibration c = cyclePitchCalibration();
+    fc::MassTransformerController controller(
+        mission({Vec3(0.5, 0.5 * std::tan(20 * kDeg), 0.5 * std::tan(10 * kDeg))}), c, gains);
+    Plant plant = legacyPlant();
+    plant.truth = c;
+    plant.slider_error = kParkError;
+    plant.cycle_up_per_slider = c.relax.up_per_slider;
+    plant.cycle_left_per_slider = c.relax.left_per_slider;
+    run(controller, plant, 600.0);
+    const fc::SteeringStatus& st = controller.status();
+    const double truth = c.park_position - kParkError;
+    ASSERT_GE(st.cycles, 3) << "learning " << learning;
+    if (learning > 0.0) {
+      EXPECT_GE(st.park_updates, 3);
+      EXPECT_NEAR(st.park_estimate, truth, 2e-6);
+    } else {
+      EXPECT_NEAR(st.park_estimate, c.park_position, 1e-12);
+    }
+  }
+}
+
+TEST(MassTransformerController, CyclePitchReachesAClimbByCyclesWithTheSliderNearPark) {
+  // A waypoint 20 deg up: no slider loop, the elevation comes from cycles whose slider offset
+  // (at most max_cycle_offset from the park estimate) turns them up; the robot passes it.
+  const fc::SteeringCalibration c = cyclePitchCalibration();
+  const fc::SteeringGains gains = cyclePitchGains();
+  const Vec3 waypoint(0.12, 0.0, 0.12 * std::tan(20 * kDeg));
+  fc::MassTransformerController controller(mission({waypoint}, 0.01), c, gains);
+  Plant plant = legacyPlant();
+  plant.truth = c;
+  plant.cycle_up_per_slider = c.relax.up_per_slider;
+  plant.cycle_left_per_slider = c.relax.left_per_slider;
+  double farthest = 0.0, closest = INFINITY;
+  for (long k = 0; k < 900 * kRate; ++k) {
+    const fc::ControllerOutputs out = controller.step(plant.sense());
+    farthest =
+        std::max(farthest, std::abs(out.slider_position - controller.status().park_estimate));
+    plant.apply(out);
+    closest = std::min(closest, (plant.position - waypoint).norm());
+    if (controller.status().mode == fc::SteeringMode::Finished) break;
+  }
+  EXPECT_LE(farthest, gains.max_cycle_offset + 1e-12);
+  EXPECT_LT(closest, 0.01) << "closest approach " << closest;
+  EXPECT_GE(controller.status().cycles, 2);
+  // Without up_per_slider in the calibration the mode is refused, naming the field.
+  fc::SteeringCalibration bare = c;
+  bare.relax.up_per_slider = 0.0;
+  try {
+    fc::MassTransformerController refused(mission({waypoint}), bare, gains);
+    ADD_FAILURE() << "cycle_pitch accepted without up_per_slider";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("up_per_slider"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MassTransformerController, HoldInCycleKeepsTheSliderAtTheNeutralThroughCycleAndSettling) {
   // A waypoint 25 deg left and 17 deg up: buckle cycles for the azimuth while the elevation loop
   // wants the slider hundreds of micrometres off the neutral. With hold_in_cycle the slider sits
@@ -394,7 +481,14 @@ TEST(SteeringGains, AGainsFileSetsTheGainsItNamesAndNamesTheFieldItCannotRead) {
   fc::SteeringGains source;
   source.load(std::string(FLAGELLA_CONFIG_DIR) + "/calibration/helical_steering_source_gains.yaml");
   EXPECT_NO_THROW(source.validate());
-  EXPECT_TRUE(source.hold_in_cycle);
+  EXPECT_TRUE(source.cycle_pitch);
+  // ... and drives the controller with the shipped calibration of that robot (up_per_slider).
+  source.schedule = fc::BuckleScheduleKind::ThreeLevel;
+  EXPECT_NO_THROW(fc::MassTransformerController(
+      mission({Vec3(0.1, 0.0, 0.0)}),
+      fc::loadSteeringCalibration(std::string(FLAGELLA_CONFIG_DIR) +
+                                  "/calibration/helical_steering_source.yaml"),
+      source));
   struct Case {
     const char *text, *needle;
   };
@@ -795,9 +889,7 @@ TEST(MassTransformerController, InvalidGainsAndMissionsNameTheField) {
   // Gains by name (the node's parameters, --gain): every name reads back what it set.
   fc::SteeringGains named;
   for (const std::string& name : fc::SteeringGains::names()) {
-    const bool flag = name == "steer_by_offset" || name == "trim_neutral" ||
-                      name == "retrim_neutral" || name == "hold_in_cycle";
-    const double value = flag ? 0.0 : 0.123;
+    const double value = fc::SteeringGains::isFlag(name) ? 1.0 - named.get(name) : 0.123;
     named.set(name, value);
     EXPECT_EQ(named.get(name), value) << name;
   }

@@ -58,6 +58,32 @@ TEST(SteeringCalibration, PhaseLawFitRecoversTheModel) {
   EXPECT_THROW(fc::fitPhaseLaw({pulses[0], pulses[1]}, fitted), std::invalid_argument);
 }
 
+TEST(SteeringCalibration, SliderTurnFitRecoversTheSlopes) {
+  // Cycles at +-step off park turn by the phase law plus (up, left) per metre times the offset:
+  // the fit returns those slopes whatever the phases.
+  fc::BuckleSchedule schedule = knownSchedule();
+  constexpr double kStep = 2e-5, kUp = 4.1e3, kLeft = -3.4e3;  // [m], [rad/m]
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  const auto side = [&](double offset) {
+    std::vector<fc::PulseObservation> pulses(3);
+    for (fc::PulseObservation& p : pulses) {
+      p.roll = angle(rng);
+      p.shaft = 40.0 * angle(rng);
+      schedule.predictedTurn(p.roll, p.shaft, p.up, p.left);
+      p.up += kUp * offset;
+      p.left += kLeft * offset;
+    }
+    return pulses;
+  };
+  const auto plus = side(kStep), minus = side(-kStep);
+  fc::fitSliderTurn(plus, minus, kStep, schedule);
+  EXPECT_NEAR(schedule.up_per_slider, kUp, 1e-9 * kUp);
+  EXPECT_NEAR(schedule.left_per_slider, kLeft, 1e-9 * std::abs(kLeft));
+  EXPECT_THROW(fc::fitSliderTurn({}, minus, kStep, schedule), std::invalid_argument);
+  EXPECT_THROW(fc::fitSliderTurn(plus, minus, 0.0, schedule), std::invalid_argument);
+}
+
 TEST(SteeringCalibration, YamlRoundTripsAndNamesBadFields) {
   fc::SteeringCalibration c;
   c.buckling_threshold = 1.505;
@@ -74,6 +100,9 @@ TEST(SteeringCalibration, YamlRoundTripsAndNamesBadFields) {
   c.slider_min = -8e-3;
   c.slider_max = 8e-3;
   c.source = "test \"quoted\"";
+  c.park_pitch_rate = -7.4e-5;
+  c.three_level.up_per_slider = 8.9e3;
+  c.three_level.left_per_slider = -472.0;
   flagella::testing::TempDir dir;
   const std::string path = (dir.path() / "steering.yaml").string();
   fc::saveSteeringCalibration(c, path);
@@ -85,6 +114,25 @@ TEST(SteeringCalibration, YamlRoundTripsAndNamesBadFields) {
   EXPECT_EQ(r.pitch_rate_per_slider, c.pitch_rate_per_slider);
   EXPECT_EQ(r.crab_per_slider, c.crab_per_slider);
   EXPECT_EQ(r.source, c.source);
+  EXPECT_EQ(r.park_pitch_rate, c.park_pitch_rate);
+  EXPECT_EQ(r.three_level.up_per_slider, c.three_level.up_per_slider);
+  EXPECT_EQ(r.three_level.left_per_slider, c.three_level.left_per_slider);
+  // Files written before these fields load with them 0.
+  {
+    std::ifstream in(path);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    for (const char* key : {"park_pitch_rate:", "up_per_slider:", "left_per_slider:"})
+      for (std::size_t at = text.find(key); at != std::string::npos; at = text.find(key)) {
+        const std::size_t line = text.rfind('\n', at) + 1;  // the whole line, indent and all
+        text.erase(line, text.find('\n', at) - line + 1);
+      }
+    const std::string old_path = (dir.path() / "old.yaml").string();
+    std::ofstream(old_path) << text;
+    const fc::SteeringCalibration old = fc::loadSteeringCalibration(old_path);
+    EXPECT_EQ(old.park_pitch_rate, 0.0);
+    EXPECT_EQ(old.three_level.up_per_slider, 0.0);
+    EXPECT_EQ(old.relax.left_per_slider, 0.0);
+  }
   // A crab law of 0 cannot be inverted by the offset steering.
   fc::SteeringCalibration no_crab = c;
   no_crab.crab_per_slider = 0.0;

@@ -32,6 +32,11 @@ int main(int argc, char** argv) {
   app.add_option("--relax-duration", options.relax_duration, "relax schedule: rest after [s]");
   app.add_option("--lead-duration", options.lead_duration, "three-level: rest before [s]");
   app.add_option("--pulses", options.pulses, "calibration pulses per schedule");
+  app.add_option("--slider-pulses", options.slider_pulses,
+                 "cycles with the slider held off park, per side and schedule (0: skip)")
+      ->capture_default_str();
+  app.add_option("--cycle-slider-step", options.cycle_slider_step, "that offset from park [m]")
+      ->capture_default_str();
   app.add_option("--crab-step", options.crab_step,
                  "crab runs: slider offsets +- this from the park position [m]");
   app.add_option("--crab-measure", options.crab_measure, "crab runs: measured span [s]");

@@ -99,6 +99,16 @@ struct SteeringGains {
   /// the slider 50 um off park turned the robot 5-24 deg up besides its calibrated 10.6 deg by
   /// phase (README, "The source's steering robot").
   bool hold_in_cycle = false;
+  /// The elevation by buckle cycles alone, through the slider (docs/model.md 7.4): the slider
+  /// sits at the park estimate (no couple: the robot keeps its elevation) and is held off it
+  /// through a cycle by the offset whose calibrated turn (up_per_slider) brings the predicted
+  /// up-turn to the elevation error; the cycle's phase is chosen for the azimuth. Each cycle's
+  /// measured turn corrects the park estimate (it starts at the start frame's trim). No slider
+  /// loop, no turns at elevation. Needs a calibration with up_per_slider.
+  bool cycle_pitch = false;
+  double max_cycle_offset = 4e-5;     ///< largest such offset from the park estimate [m]
+  double max_cycle_up = 0.35;         ///< largest up- or down-turn one cycle is asked for [rad]
+  double park_learning = 0.5;         ///< share of a cycle's measured up-turn error corrected
   double max_elevation = 0.6;         ///< limit of a leg's target elevation (34 deg) [rad]
   double tilt_time_constant = 6.0;    ///< closed-loop time constant of the slider loop [s]
   double max_pitch_rate = 0.15;       ///< the slider loop asks for no faster pitch [rad/s]
@@ -149,6 +159,8 @@ struct SteeringGains {
   void set(const std::string& name, double value);
   /// The names `set` knows.
   static std::vector<std::string> names();
+  /// True for the on/off gains (0 or 1).
+  static bool isFlag(const std::string& name);
   /// Reads a numeric gain by name (as `set`).
   double get(const std::string& name) const;
   /// Every gain with its value, unit and meaning, a line each (steering_gains.cpp).
@@ -179,6 +191,9 @@ struct SteeringStatus {
   double elevation = 0.0;         ///< estimated elevation of travel (accelerometer) [rad]
   double target_elevation = 0.0;  ///< of the slider loop [rad]
   bool in_cycle = false;          ///< a buckle cycle is running
+  double park_estimate = NAN;     ///< cycle_pitch: slider position of no couple [m]
+  double cycle_offset = 0.0;      ///< cycle_pitch: the running cycle's slider offset [m]
+  long park_updates = 0;          ///< cycle_pitch: cycles whose turn corrected the estimate
   bool turn_possible = true;      ///< a buckle cycle can turn toward the wanted side
   long cycles = 0;                ///< buckle cycles started
   bool flipping = false;          ///< a turn at elevation is under way
@@ -224,6 +239,15 @@ class MassTransformerController : public ControllerCore {
   void learnCrab(const Vec3& fix, double time);
   void learnNeutral(double measured_crab, double dt);
   double neutral() const { return calibration_.park_position + slider_integral_; }
+  /// The robot's pitch neutral less park: the calibrated own pitching over the pitch rate [m].
+  double ownPitchOffset() const {
+    return -calibration_.park_pitch_rate / calibration_.pitch_rate_per_slider;
+  }
+  /// cycle_pitch: the slider offset and predicted turn of a cycle started now at this phase.
+  double cycleOffsetFor(double up_error, double phase_up) const;
+  double cyclePitchCommand(double time);  ///< cycle_pitch: the motor command (cycles)
+  /// cycle_pitch: after a cycle has settled, its measured up-turn corrects the park estimate.
+  void learnPark();
   /// The slider's travel kept slider_margin off the hard stops [m].
   double sliderLow() const { return calibration_.slider_min + gains_.slider_margin; }
   double sliderHigh() const { return calibration_.slider_max - gains_.slider_margin; }
@@ -281,6 +305,10 @@ class MassTransformerController : public ControllerCore {
   /// Side the steering turns to while the waypoint is behind (+1 left, -1 right, 0 none).
   double turn_side_ = 0.0;
   double cycle_start_ = 0.0, next_cycle_allowed_ = 0.0;
+  // cycle_pitch: the running cycle's start direction and predicted turn, to measure it after
+  Vec3 cycle_before_ = Vec3::UnitX();
+  double cycle_pred_up_ = 0.0, cycle_pred_left_ = 0.0;
+  bool cycle_to_measure_ = false;
   double within_since_ = 0.0;   ///< last time the elevation error was within tilt_mode_threshold
   double aligned_since_ = 0.0;  ///< the azimuth error last within stall_error or shrinking [s]
   double stall_reference_ = INFINITY;  ///< |azimuth error| then [rad]

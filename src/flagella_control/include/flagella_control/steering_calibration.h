@@ -40,6 +40,10 @@ struct BuckleSchedule {
   double roll_sign = 1.0, shaft_sign = 1.0;  ///< +-1
   double phase_offset = 0.0;                 ///< [rad], (-pi, pi]
   double phase_spread = 0.0;  ///< RMS residual of the turn in the calibration runs [rad]
+  /// Turn per metre of slider offset from park held through the cycle, (up, left) [rad/m]: a
+  /// buckling flagellum turns the robot by the slider's small couple many times more than the
+  /// couple pitches it cruising (optional in a file: 0 when absent).
+  double up_per_slider = 0.0, left_per_slider = 0.0;
 
   double cycleDuration() const { return lead_duration + pulse_duration + relax_duration; }
   /// Motor rate at time `s` since the cycle started (cruise after the cycle).
@@ -69,6 +73,10 @@ struct SteeringCalibration {
   /// Micrometres of COM-COV offset turn the course by degrees (docs/model.md 7.4).
   double crab_per_slider = 0.0;
   double park_position = 0.0;  ///< slider position with no COM-COV couple (nominal l_0) [m]
+  /// Nose-up pitch rate of the head axis cruising with the slider at park [rad/s]: the robot's
+  /// own pitching, so that its cruise pitches not at all (its pitch neutral) at park minus this
+  /// over pitch_rate_per_slider. Optional in a file (0 when absent).
+  double park_pitch_rate = 0.0;
   double slider_min = 0.0, slider_max = 0.0;  ///< travel [m]
   std::string source;
 

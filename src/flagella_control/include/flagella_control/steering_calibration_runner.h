@@ -34,6 +34,10 @@ struct SteeringCalibrationOptions {
   double crab_step = 1e-5;        ///< crab runs: slider offsets +-this from the park position [m]
   double crab_settle = 30.0;      ///< crab runs: before the measurement [s]
   double crab_measure = 60.0;     ///< crab runs: course and axis over this [s]
+  /// Cycles with the slider off park: pulses per side (0: not measured) and the offset from park
+  /// held through each cycle [m] (up_per_slider, left_per_slider of each schedule).
+  int slider_pulses = 4;
+  double cycle_slider_step = 2e-5;
   /// Throws std::invalid_argument naming the field and its range.
   void validate() const;
 };
@@ -63,9 +67,17 @@ SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
 double measureCrab(const flagella::SimulationConfig& config, double cruise_omega, double slider,
                    double settle, double measure);
 
-/// Pulses of one schedule in one run (settle, then `options.pulses` cycles), for calibration.
+/// Pulses of one schedule in one run (settle, then `pulses` cycles), for calibration; the slider
+/// is held `cycle_offset` [m] off its start position through each cycle (at it otherwise).
 std::vector<PulseObservation> observePulses(const flagella::SimulationConfig& config,
                                             const BuckleSchedule& schedule, double cruise_omega,
-                                            const SteeringCalibrationOptions& options);
+                                            const SteeringCalibrationOptions& options, int pulses,
+                                            double cycle_offset = 0.0);
+
+/// The turn per metre of slider offset held through a cycle, (up, left) [rad/m]: the mean
+/// residual of the phase law over cycles at +step less that at -step, over 2 step.
+void fitSliderTurn(const std::vector<PulseObservation>& plus,
+                   const std::vector<PulseObservation>& minus, double step,
+                   BuckleSchedule& schedule);
 
 }  // namespace flagella::control
