@@ -28,11 +28,10 @@ double MassTransformerController::cyclePitchCommand(double time) {
   const double wanted_left = std::clamp(left_error, -gains_.max_cycle_up, gains_.max_cycle_up);
   // The miss of a cycle at phase chi: what it leaves of the wanted turn.
   const auto miss = [&](double chi, double& offset, double& up, double& left) {
-    const double phase_up = schedule_->bias_up + schedule_->deflection * std::cos(chi);
-    const double phase_left = schedule_->bias_left + schedule_->deflection * std::sin(chi);
-    offset = cycleOffsetFor(up_error, phase_up);
-    up = phase_up + schedule_->up_per_slider * offset;
-    left = phase_left + schedule_->left_per_slider * offset;
+    schedule_->turnToward(chi, up, left);
+    offset = cycleOffsetFor(wanted_up, up);
+    up += schedule_->up_per_slider * offset;
+    left += schedule_->left_per_slider * offset;
     return std::hypot(wanted_up - up, wanted_left - left);
   };
   double best = INFINITY, offset = 0.0, up = 0.0, left = 0.0;
@@ -52,9 +51,8 @@ double MassTransformerController::cyclePitchCommand(double time) {
   return schedule_->omegaAt(0.0, cruise);
 }
 
-double MassTransformerController::cycleOffsetFor(double up_error, double phase_up) const {
-  const double wanted = std::clamp(up_error, -gains_.max_cycle_up, gains_.max_cycle_up);
-  return std::clamp((wanted - phase_up) / schedule_->up_per_slider, -gains_.max_cycle_offset,
+double MassTransformerController::cycleOffsetFor(double wanted_up, double phase_up) const {
+  return std::clamp((wanted_up - phase_up) / schedule_->up_per_slider, -gains_.max_cycle_offset,
                     gains_.max_cycle_offset);
 }
 

@@ -117,8 +117,7 @@ double BuckleSchedule::direction(double roll, double shaft) const {
   return wrapAngle(roll_sign * roll + shaft_sign * shaft + phase_offset);
 }
 
-void BuckleSchedule::predictedTurn(double roll, double shaft, double& up, double& left) const {
-  const double chi = direction(roll, shaft);
+void BuckleSchedule::turnToward(double chi, double& up, double& left) const {
   up = bias_up + deflection * std::cos(chi);
   left = bias_left + deflection * std::sin(chi);
 }

@@ -243,8 +243,9 @@ class MassTransformerController : public ControllerCore {
   double ownPitchOffset() const {
     return -calibration_.park_pitch_rate / calibration_.pitch_rate_per_slider;
   }
-  /// cycle_pitch: the slider offset and predicted turn of a cycle started now at this phase.
-  double cycleOffsetFor(double up_error, double phase_up) const;
+  /// cycle_pitch: the slider offset (within max_cycle_offset) that adds to a cycle's phase
+  /// up-turn what it lacks of the wanted up-turn [m].
+  double cycleOffsetFor(double wanted_up, double phase_up) const;
   double cyclePitchCommand(double time);  ///< cycle_pitch: the motor command (cycles)
   /// cycle_pitch: after a cycle has settled, its measured up-turn corrects the park estimate.
   void learnPark();

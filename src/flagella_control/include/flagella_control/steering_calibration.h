@@ -50,8 +50,12 @@ struct BuckleSchedule {
   double omegaAt(double s, double cruise_omega) const;
   /// Direction chi of the phase-dependent part for a cycle started at this roll and shaft [rad].
   double direction(double roll, double shaft) const;
+  /// The turn (up, left) [rad] of a cycle whose phase-dependent part points toward `chi`.
+  void turnToward(double chi, double& up, double& left) const;
   /// The turn (up, left) [rad] of a cycle started at this roll and shaft angle.
-  void predictedTurn(double roll, double shaft, double& up, double& left) const;
+  void predictedTurn(double roll, double shaft, double& up, double& left) const {
+    turnToward(direction(roll, shaft), up, left);
+  }
   /// The largest turn along the unit direction (up, left) of the plane normal to travel one
   /// cycle can give [rad]; <= 0 when buckling cannot turn that way.
   double bestTurn(double up, double left) const {
