@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "flagella_control/heading.h"
 #include "flagella_control/validation.h"
@@ -39,11 +40,14 @@ MassTransformerController::MassTransformerController(WaypointMission mission,
   mission_.validate();
   calibration_.validate();
   gains_.validate();
-  schedule_ = &calibration_.schedule(gains_.schedule);
-  if (gains_.cycle_pitch && schedule_->up_per_slider == 0.0)
-    throw std::invalid_argument(
-        "steering gains: cycle_pitch needs a calibration with the schedule's up_per_slider "
-        "(flagella_steer_calibrate --slider-pulses)");
+  const bool needs_both = gains_.cycle_pitch && gains_.mixed_schedules;
+  for (const BuckleScheduleKind kind : {BuckleScheduleKind::Relax, BuckleScheduleKind::ThreeLevel})
+    if (gains_.cycle_pitch && (needs_both || kind == gains_.schedule) &&
+        calibration_.schedule(kind).up_per_slider == 0.0)
+      throw std::invalid_argument(
+          std::string("steering gains: cycle_pitch needs a calibration with the ") +
+          (kind == BuckleScheduleKind::Relax ? "relax" : "three_level") +
+          " schedule's up_per_slider (flagella_steer_calibrate --slider-pulses)");
   pitch_model_ = PitchModelEstimator(calibration_.pitch_rate_per_slider, calibration_.park_position,
                                      gains_.pitch_forgetting_time);
   world_points_.resize(mission_.points.size(), Vec3::Zero());
@@ -78,6 +82,13 @@ void MassTransformerController::reset() {
   cycle_before_ = Vec3::UnitX();
   cycle_pred_up_ = cycle_pred_left_ = 0.0;
   cycle_to_measure_ = false;
+  cycle_chi_ = cycle_size_ = cycle_offset_ = size_log_ = 0.0;
+  schedule_ = calibration_.schedule(gains_.schedule);
+  other_schedule_ = calibration_.schedule(gains_.schedule == BuckleScheduleKind::Relax
+                                              ? BuckleScheduleKind::ThreeLevel
+                                              : BuckleScheduleKind::Relax);
+  other_size_log_ = 0.0;
+  status_.pulse_omega = schedule_.pulse_omega;
   trim_.reset();
   pitch_model_.reset();
   last_retrim_ = cycle_up_ = cycle_elevation_ = 0.0;
@@ -158,14 +169,14 @@ void MassTransformerController::guide(double time) {
 }
 
 bool MassTransformerController::turnPossible(double up, double left) const {
-  return schedule_->bestTurn(up, left) > gains_.min_turn_share * schedule_->deflection;
+  return schedule_.bestTurn(up, left) > gains_.min_turn_share * schedule_.deflection;
 }
 
 double MassTransformerController::motorCommand(double time) {
   const double cruise = calibration_.cruise_omega;
   if (status_.in_cycle) {
     const double s = time - cycle_start_;
-    if (s < schedule_->cycleDuration()) return schedule_->omegaAt(s, cruise);
+    if (s < schedule_.cycleDuration()) return schedule_.omegaAt(s, cruise);
     status_.in_cycle = false;
     cycle_elevation_ += cycle_up_;  // the pitch model sees the cycle's turn as its own
     next_cycle_allowed_ = time + gains_.settle_time;
@@ -186,15 +197,15 @@ double MassTransformerController::motorCommand(double time) {
     const double du = up_error / size, dl = left_error / size;
     // Start when this phase turns toward the error within the window of the best phase.
     double up = 0.0, left = 0.0;
-    schedule_->predictedTurn(roll_, shaft_, up, left);
+    schedule_.predictedTurn(roll_, shaft_, up, left);
     const double threshold =
-        schedule_->bestTurn(du, dl) - schedule_->deflection * (1.0 - std::cos(gains_.phase_window));
+        schedule_.bestTurn(du, dl) - schedule_.deflection * (1.0 - std::cos(gains_.phase_window));
     if (turnPossible(du, dl) && up * du + left * dl >= threshold) {
       status_.in_cycle = true;
       ++status_.cycles;
       cycle_start_ = time;
       cycle_up_ = up;
-      return schedule_->omegaAt(0.0, cruise);
+      return schedule_.omegaAt(0.0, cruise);
     }
   }
   return cruise;

@@ -68,6 +68,18 @@ constexpr NamedGain kNamedGains[] = {
      "cycle_pitch: largest up- or down-turn one cycle is asked for"},
     {"park_learning", &SteeringGains::park_learning, "",
      "cycle_pitch: share of a cycle's measured up-turn error corrected in the park estimate"},
+    {"turn_learning", &SteeringGains::turn_learning, "",
+     "cycle_pitch: share of a cycle's turn-size (log) and direction error corrected in the "
+     "pulse rate and phase offset (0: off)"},
+    {"max_cycle_turn", &SteeringGains::max_cycle_turn, "rad",
+     "turn learning: largest turn one cycle is sized for"},
+    {"pulse_growth", &SteeringGains::pulse_growth, "",
+     "turn learning: d ln(turn by phase) / d(pulse rate over omega_b) for sizing cycles (0: the "
+     "calibrated pulse)"},
+    {"min_pulse_factor", &SteeringGains::min_pulse_factor, "",
+     "turn learning keeps the pulse rate above this multiple of omega_b"},
+    {"max_pulse_factor", &SteeringGains::max_pulse_factor, "",
+     "turn learning keeps the pulse rate below this multiple of omega_b"},
 
     {"max_elevation", &SteeringGains::max_elevation, "rad", "limit of a leg's target elevation"},
     {"tilt_time_constant", &SteeringGains::tilt_time_constant, "s",
@@ -131,6 +143,9 @@ constexpr NamedFlag kNamedFlags[] = {
      "1: re-trim the neutral from the pitch model learnt over the mission"},
     {"hold_in_cycle", &SteeringGains::hold_in_cycle,
      "1: the slider at the neutral during a buckle cycle and its settle_time (no elevation loop)"},
+    {"mixed_schedules", &SteeringGains::mixed_schedules,
+     "1 (cycle_pitch): each cycle by the schedule, relax or three_level, whose best phase comes "
+     "nearer the wanted turn"},
     {"cycle_pitch", &SteeringGains::cycle_pitch,
      "1: the elevation by buckle cycles alone, through the slider's offset held through each "
      "cycle (the slider otherwise at the park estimate, learnt from the cycles' turns)"},
@@ -164,6 +179,11 @@ void SteeringGains::validate() const {
   requireInRange(kContext, "max_cycle_offset", max_cycle_offset, 0.0, 0.01);
   requireInRange(kContext, "max_cycle_up", max_cycle_up, 0.0, M_PI / 2);
   requireInRange(kContext, "park_learning", park_learning, 0.0, 1.0);
+  requireInRange(kContext, "turn_learning", turn_learning, 0.0, 1.0);
+  requireInRange(kContext, "max_cycle_turn", max_cycle_turn, 1e-3, M_PI / 2);
+  requireInRange(kContext, "pulse_growth", pulse_growth, 0.0, 100.0);
+  requireInRange(kContext, "min_pulse_factor", min_pulse_factor, 1.0, 10.0);
+  requireInRange(kContext, "max_pulse_factor", max_pulse_factor, min_pulse_factor, 10.0);
   requireInRange(kContext, "max_elevation", max_elevation, 0.0, flip_elevation);
   requireInRange(kContext, "tilt_time_constant", tilt_time_constant, 0.1, 600.0);
   requireInRange(kContext, "max_pitch_rate", max_pitch_rate, 1e-3, 10.0);

@@ -106,9 +106,28 @@ struct SteeringGains {
   /// measured turn corrects the park estimate (it starts at the start frame's trim). No slider
   /// loop, no turns at elevation. Needs a calibration with up_per_slider.
   bool cycle_pitch = false;
-  double max_cycle_offset = 4e-5;     ///< largest such offset from the park estimate [m]
-  double max_cycle_up = 0.35;         ///< largest up- or down-turn one cycle is asked for [rad]
-  double park_learning = 0.5;         ///< share of a cycle's measured up-turn error corrected
+  double max_cycle_offset = 4e-5;  ///< largest such offset from the park estimate [m]
+  double max_cycle_up = 0.35;      ///< largest up- or down-turn one cycle is asked for [rad]
+  double park_learning = 0.5;      ///< share of a cycle's measured up-turn error corrected
+  /// cycle_pitch: cycles sized to the wanted turn and the turn per cycle learnt online
+  /// (docs/model.md 7.4): each cycle's pulse rate is the one whose predicted turn by phase has
+  /// the wanted size (at most max_cycle_turn); after each settled cycle, the log of the turn's
+  /// size over the predicted moves the learnt gain by this share, and the phase offset moves by
+  /// this share of the direction's error; 0: off (the calibrated pulse, no learning). A model
+  /// 20 % too stiff turns 2.3 deg instead of 22.7 at the calibrated pulse, and its phase offset
+  /// is 1.4 rad off (README, "The source's steering robot").
+  double turn_learning = 0.0;
+  double max_cycle_turn = 0.4;  ///< turn learning: largest turn one cycle is sized for [rad]
+  /// d ln(turn by phase) / d(pulse rate over the calibrated threshold) for sizing the cycles:
+  /// 9.1 for three_level and 7.2 for relax between pulses of 1.25 and 1.5 omega_b held 6 s (the
+  /// turn table) [1]; 0: every cycle at the calibrated pulse, its turn as learnt.
+  double pulse_growth = 9.0;
+  double min_pulse_factor = 1.1;  ///< turn learning keeps the pulse above this x omega_b [1]
+  double max_pulse_factor = 2.0;  ///< ... and below this [1]
+  /// cycle_pitch: each cycle by the schedule (relax or three_level) whose best phase comes
+  /// nearer the wanted turn, both as calibrated (and learnt alike): on the source's robot, pulses
+  /// of 3 omega_b for 2 s turn it 8.8 deg (relax) or 28.9 deg (three_level) by phase.
+  bool mixed_schedules = false;
   double max_elevation = 0.6;         ///< limit of a leg's target elevation (34 deg) [rad]
   double tilt_time_constant = 6.0;    ///< closed-loop time constant of the slider loop [s]
   double max_pitch_rate = 0.15;       ///< the slider loop asks for no faster pitch [rad/s]
@@ -194,6 +213,10 @@ struct SteeringStatus {
   double park_estimate = NAN;     ///< cycle_pitch: slider position of no couple [m]
   double cycle_offset = 0.0;      ///< cycle_pitch: the running cycle's slider offset [m]
   long park_updates = 0;          ///< cycle_pitch: cycles whose turn corrected the estimate
+  double pulse_omega = NAN;       ///< cycle_pitch: the pulse rate of the next cycle [rad/s]
+  double phase_shift = 0.0;       ///< cycle_pitch: learnt correction of the phase offset [rad]
+  double turn_gain = 1.0;         ///< cycle_pitch: learnt turn size over the calibrated model's
+  long turn_updates = 0;          ///< cycle_pitch: cycles whose turn corrected pulse or phase
   bool turn_possible = true;      ///< a buckle cycle can turn toward the wanted side
   long cycles = 0;                ///< buckle cycles started
   bool flipping = false;          ///< a turn at elevation is under way
@@ -243,12 +266,23 @@ class MassTransformerController : public ControllerCore {
   double ownPitchOffset() const {
     return -calibration_.park_pitch_rate / calibration_.pitch_rate_per_slider;
   }
-  /// cycle_pitch: the slider offset (within max_cycle_offset) that adds to a cycle's phase
-  /// up-turn what it lacks of the wanted up-turn [m].
-  double cycleOffsetFor(double wanted_up, double phase_up) const;
+  /// cycle_pitch: what a cycle of this schedule started at phase chi leaves of the wanted turn,
+  /// with the slider offset (within max_cycle_offset) that adds to its phase up-turn what it
+  /// lacks of the wanted up-turn [m], and its predicted turn (up, left) [rad].
+  double cycleMiss(const BuckleSchedule& schedule, double chi, double wanted_up, double wanted_left,
+                   double& offset, double& up, double& left) const;
+  /// ... the least of that over the phases [rad].
+  double bestMiss(const BuckleSchedule& schedule, double wanted_up, double wanted_left) const;
   double cyclePitchCommand(double time);  ///< cycle_pitch: the motor command (cycles)
   /// cycle_pitch: after a cycle has settled, its measured up-turn corrects the park estimate.
   void learnPark();
+  /// cycle_pitch with turn_learning: after a cycle has settled, its measured turn corrects the
+  /// learnt turn gain (size) and the phase offset (direction); true when the turn agreed with the
+  /// prediction well enough for the park estimate to learn from its up-turn.
+  bool learnTurn(double up, double left);
+  /// cycle_pitch with turn_learning: the pulse rate (and the predicted turn) of the next cycle
+  /// for a turn of this size [rad].
+  void sizeCycle(double wanted, double size_log, BuckleSchedule& schedule) const;
   /// The slider's travel kept slider_margin off the hard stops [m].
   double sliderLow() const { return calibration_.slider_min + gains_.slider_margin; }
   double sliderHigh() const { return calibration_.slider_max - gains_.slider_margin; }
@@ -274,7 +308,12 @@ class MassTransformerController : public ControllerCore {
   WaypointMission mission_;
   SteeringCalibration calibration_;
   SteeringGains gains_;
-  const BuckleSchedule* schedule_ = nullptr;
+  /// The gains' schedule as calibrated; with turn_learning sized for the next cycle (pulse rate,
+  /// turn, offset's turn) and its phase offset as learnt (reset() restores the calibrated one).
+  BuckleSchedule schedule_;
+  /// mixed_schedules: the other schedule, learnt alike (swapped with schedule_ for a cycle).
+  BuckleSchedule other_schedule_;
+  double other_size_log_ = 0.0;
   std::vector<Vec3> world_points_;
   SteeringStatus status_;
 
@@ -310,6 +349,9 @@ class MassTransformerController : public ControllerCore {
   Vec3 cycle_before_ = Vec3::UnitX();
   double cycle_pred_up_ = 0.0, cycle_pred_left_ = 0.0;
   bool cycle_to_measure_ = false;
+  // its predicted direction and size [rad], slider offset [m]
+  double cycle_chi_ = 0.0, cycle_size_ = 0.0, cycle_offset_ = 0.0;
+  double size_log_ = 0.0;       // turn learning: ln of the learnt turn size over the model's
   double within_since_ = 0.0;   ///< last time the elevation error was within tilt_mode_threshold
   double aligned_since_ = 0.0;  ///< the azimuth error last within stall_error or shrinking [s]
   double stall_reference_ = INFINITY;  ///< |azimuth error| then [rad]
