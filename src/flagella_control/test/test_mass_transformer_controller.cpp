@@ -482,6 +482,7 @@ TEST(MassTransformerController, TurnLearningSizesTheCyclesAndLearnsTheTurnTheMod
     fc::SteeringGains gains = cyclePitchGains();
     gains.turn_learning = learning;
     gains.max_pulse_factor = 3.0;  // the test calibration pulses at 2 omega_b
+    gains.pulse_growth = 9.0;      // cycles sized by the pulse rate
     const fc::SteeringCalibration c = cyclePitchCalibration();
     fc::MassTransformerController controller(mission({waypoint}, 0.01), c, gains);
     Plant plant = legacyPlant();

@@ -120,8 +120,9 @@ struct SteeringGains {
   double max_cycle_turn = 0.4;  ///< turn learning: largest turn one cycle is sized for [rad]
   /// d ln(turn by phase) / d(pulse rate over the calibrated threshold) for sizing the cycles:
   /// 9.1 for three_level and 7.2 for relax between pulses of 1.25 and 1.5 omega_b held 6 s (the
-  /// turn table) [1]; 0: every cycle at the calibrated pulse, its turn as learnt.
-  double pulse_growth = 9.0;
+  /// turn table) [1]; 0 (default): every cycle at the calibrated pulse, its turn as learnt (at
+  /// 3 omega_b for 2 s the turn no longer grows so).
+  double pulse_growth = 0.0;
   double min_pulse_factor = 1.1;  ///< turn learning keeps the pulse above this x omega_b [1]
   double max_pulse_factor = 2.0;  ///< ... and below this [1]
   /// cycle_pitch: each cycle by the schedule (relax or three_level) whose best phase comes
