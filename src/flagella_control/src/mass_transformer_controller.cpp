@@ -13,6 +13,11 @@ namespace flagella::control {
 
 namespace {
 constexpr double kMinCosElevation = 0.25;  // gain schedule limit of the slider loop
+
+BuckleScheduleKind otherSchedule(BuckleScheduleKind kind) {
+  return kind == BuckleScheduleKind::Relax ? BuckleScheduleKind::ThreeLevel
+                                           : BuckleScheduleKind::Relax;
+}
 }  // namespace
 
 const char* steeringModeName(SteeringMode mode) {
@@ -40,14 +45,18 @@ MassTransformerController::MassTransformerController(WaypointMission mission,
   mission_.validate();
   calibration_.validate();
   gains_.validate();
-  const bool needs_both = gains_.cycle_pitch && gains_.mixed_schedules;
-  for (const BuckleScheduleKind kind : {BuckleScheduleKind::Relax, BuckleScheduleKind::ThreeLevel})
-    if (gains_.cycle_pitch && (needs_both || kind == gains_.schedule) &&
-        calibration_.schedule(kind).up_per_slider == 0.0)
+  // cycle_pitch divides by the up_per_slider of each schedule it may take a cycle from.
+  const auto require_up_per_slider = [&](BuckleScheduleKind kind) {
+    if (calibration_.schedule(kind).up_per_slider == 0.0)
       throw std::invalid_argument(
           std::string("steering gains: cycle_pitch needs a calibration with the ") +
-          (kind == BuckleScheduleKind::Relax ? "relax" : "three_level") +
+          scheduleName(kind) +
           " schedule's up_per_slider (flagella_steer_calibrate --slider-pulses)");
+  };
+  if (gains_.cycle_pitch) {
+    require_up_per_slider(gains_.schedule);
+    if (gains_.mixed_schedules) require_up_per_slider(otherSchedule(gains_.schedule));
+  }
   pitch_model_ = PitchModelEstimator(calibration_.pitch_rate_per_slider, calibration_.park_position,
                                      gains_.pitch_forgetting_time);
   world_points_.resize(mission_.points.size(), Vec3::Zero());
@@ -80,13 +89,11 @@ void MassTransformerController::reset() {
   cycle_start_ = next_cycle_allowed_ = 0.0;
   status_.park_estimate = calibration_.park_position;
   cycle_before_ = Vec3::UnitX();
-  cycle_pred_up_ = cycle_pred_left_ = 0.0;
+  cycle_pred_up_ = 0.0;
   cycle_to_measure_ = false;
   cycle_chi_ = cycle_size_ = cycle_offset_ = size_log_ = 0.0;
   schedule_ = calibration_.schedule(gains_.schedule);
-  other_schedule_ = calibration_.schedule(gains_.schedule == BuckleScheduleKind::Relax
-                                              ? BuckleScheduleKind::ThreeLevel
-                                              : BuckleScheduleKind::Relax);
+  other_schedule_ = calibration_.schedule(otherSchedule(gains_.schedule));
   other_size_log_ = 0.0;
   status_.pulse_omega = schedule_.pulse_omega;
   trim_.reset();

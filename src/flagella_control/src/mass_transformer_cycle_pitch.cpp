@@ -32,10 +32,10 @@ double MassTransformerController::cyclePitchCommand(double time) {
   if (!wants_turn) return cruise;
   const double wanted_up = std::clamp(up_error, -gains_.max_cycle_up, gains_.max_cycle_up);
   const double wanted_left = std::clamp(left_error, -gains_.max_cycle_up, gains_.max_cycle_up);
+  const double wanted = std::hypot(wanted_up, wanted_left);
   if (gains_.turn_learning > 0.0) {
-    sizeCycle(std::hypot(wanted_up, wanted_left), size_log_, schedule_);
-    if (gains_.mixed_schedules)
-      sizeCycle(std::hypot(wanted_up, wanted_left), other_size_log_, other_schedule_);
+    sizeCycle(wanted, size_log_, schedule_);
+    if (gains_.mixed_schedules) sizeCycle(wanted, other_size_log_, other_schedule_);
   }
   double best = bestMiss(schedule_, wanted_up, wanted_left);
   if (gains_.mixed_schedules) {  // the schedule whose best phase comes nearer
@@ -51,12 +51,11 @@ double MassTransformerController::cyclePitchCommand(double time) {
   const double now = cycleMiss(schedule_, chi, wanted_up, wanted_left, offset, up, left);
   // Start within phase_window of the best phase's miss, and only if the cycle helps.
   const double window = schedule_.deflection * (1.0 - std::cos(gains_.phase_window));
-  if (now > best + window || now >= std::hypot(wanted_up, wanted_left)) return cruise;
+  if (now > best + window || now >= wanted) return cruise;
   status_.in_cycle = true;
   ++status_.cycles;
   cycle_start_ = time;
   cycle_up_ = cycle_pred_up_ = up;
-  cycle_pred_left_ = left;
   cycle_before_ = direction_stage_;  // the first stage: less lag for the measurement
   status_.cycle_offset = cycle_offset_ = offset;
   cycle_chi_ = chi;

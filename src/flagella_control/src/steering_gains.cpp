@@ -70,7 +70,7 @@ constexpr NamedGain kNamedGains[] = {
      "cycle_pitch: share of a cycle's measured up-turn error corrected in the park estimate"},
     {"turn_learning", &SteeringGains::turn_learning, "",
      "cycle_pitch: share of a cycle's turn-size (log) and direction error corrected in the "
-     "pulse rate and phase offset (0: off)"},
+     "learnt size gain and the phase offset (0: off)"},
     {"max_cycle_turn", &SteeringGains::max_cycle_turn, "rad",
      "turn learning: largest turn one cycle is sized for"},
     {"pulse_growth", &SteeringGains::pulse_growth, "",

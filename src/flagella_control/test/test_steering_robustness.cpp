@@ -15,14 +15,21 @@
 namespace flagella::control {
 namespace {
 
-TEST(SteeringRobustness, OnAWrongModelTheClosedLoopReachesAClimbThatTheNominalScheduleMisses) {
+// Seed 1's wrong model only (no nominal closed loop), closed loop and replay at once.
+RobustnessOptions oneWrongModelRun(const std::string& config_name, double max_duration) {
   RobustnessOptions options;
-  options.config_path = std::string(FLAGELLA_CONFIG_DIR) + "/helical_steering.yaml";
+  options.config_path = std::string(FLAGELLA_CONFIG_DIR) + "/" + config_name;
   options.runs = 1;
   options.first_seed = 1;
   options.nominal = false;
   options.jobs = 2;
-  options.max_duration = 200.0;  // [s]; the demo's runs reach the climb at 65-105 s
+  options.max_duration = max_duration;
+  return options;
+}
+
+TEST(SteeringRobustness, OnAWrongModelTheClosedLoopReachesAClimbThatTheNominalScheduleMisses) {
+  // [s]; the demo's runs reach the climb at 65-105 s
+  const RobustnessOptions options = oneWrongModelRun("helical_steering.yaml", 200.0);
   const SteeringCalibration calibration = loadSteeringCalibration(
       std::string(FLAGELLA_CONFIG_DIR) + "/calibration/helical_steering.yaml");
   WaypointMission mission;  // the demo's first leg (config/paths/steering_demo.yaml)
@@ -60,13 +67,8 @@ TEST(SteeringRobustness, OnAWrongModelTheClosedLoopReachesAClimbThatTheNominalSc
 // the tolerance; the nominal schedule replayed blind must not (its cycles turn the wrong model
 // elsewhere).
 TEST(SteeringRobustness, OnTheSourceRobotAWrongModelsClosedLoopPassesTheClimbTheScheduleMisses) {
-  RobustnessOptions options;
-  options.config_path = std::string(FLAGELLA_CONFIG_DIR) + "/helical_steering_source.yaml";
-  options.runs = 1;
-  options.first_seed = 1;
-  options.nominal = false;
-  options.jobs = 2;
-  options.max_duration = 150.0;  // [s]; the demo's runs pass the climb at about 76 s
+  // [s]; the demo's runs pass the climb at about 76 s
+  const RobustnessOptions options = oneWrongModelRun("helical_steering_source.yaml", 150.0);
   const SteeringCalibration calibration = loadSteeringCalibration(
       std::string(FLAGELLA_CONFIG_DIR) + "/calibration/helical_steering_source.yaml");
   SteeringGains gains;

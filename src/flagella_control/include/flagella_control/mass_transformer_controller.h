@@ -109,11 +109,11 @@ struct SteeringGains {
   double max_cycle_offset = 4e-5;  ///< largest such offset from the park estimate [m]
   double max_cycle_up = 0.35;      ///< largest up- or down-turn one cycle is asked for [rad]
   double park_learning = 0.5;      ///< share of a cycle's measured up-turn error corrected
-  /// cycle_pitch: cycles sized to the wanted turn and the turn per cycle learnt online
-  /// (docs/model.md 7.4): each cycle's pulse rate is the one whose predicted turn by phase has
-  /// the wanted size (at most max_cycle_turn); after each settled cycle, the log of the turn's
-  /// size over the predicted moves the learnt gain by this share, and the phase offset moves by
-  /// this share of the direction's error; 0: off (the calibrated pulse, no learning). A model
+  /// cycle_pitch: the turn per cycle learnt online (docs/model.md 7.4): after each settled cycle,
+  /// the log of the turn's size over the predicted moves the learnt size gain by this share, and
+  /// the phase offset moves by this share of the direction's error; with pulse_growth > 0 each
+  /// cycle's pulse rate is also the one whose predicted turn by phase has the wanted size (at
+  /// most max_cycle_turn); 0: off (the calibrated pulse, no learning). A model
   /// 20 % too stiff turns 2.3 deg instead of 22.7 at the calibrated pulse, and its phase offset
   /// is 1.4 rad off (README, "The source's steering robot").
   double turn_learning = 0.0;
@@ -217,7 +217,7 @@ struct SteeringStatus {
   double pulse_omega = NAN;       ///< cycle_pitch: the pulse rate of the next cycle [rad/s]
   double phase_shift = 0.0;       ///< cycle_pitch: learnt correction of the phase offset [rad]
   double turn_gain = 1.0;         ///< cycle_pitch: learnt turn size over the calibrated model's
-  long turn_updates = 0;          ///< cycle_pitch: cycles whose turn corrected pulse or phase
+  long turn_updates = 0;          ///< cycle_pitch: cycles whose turn corrected size gain or phase
   bool turn_possible = true;      ///< a buckle cycle can turn toward the wanted side
   long cycles = 0;                ///< buckle cycles started
   bool flipping = false;          ///< a turn at elevation is under way
@@ -348,7 +348,7 @@ class MassTransformerController : public ControllerCore {
   double cycle_start_ = 0.0, next_cycle_allowed_ = 0.0;
   // cycle_pitch: the running cycle's start direction and predicted turn, to measure it after
   Vec3 cycle_before_ = Vec3::UnitX();
-  double cycle_pred_up_ = 0.0, cycle_pred_left_ = 0.0;
+  double cycle_pred_up_ = 0.0;
   bool cycle_to_measure_ = false;
   // its predicted direction and size [rad], slider offset [m]
   double cycle_chi_ = 0.0, cycle_size_ = 0.0, cycle_offset_ = 0.0;
