@@ -91,7 +91,7 @@ void MassTransformerController::reset() {
   cycle_before_ = Vec3::UnitX();
   cycle_pred_up_ = 0.0;
   cycle_to_measure_ = false;
-  cycle_chi_ = cycle_size_ = cycle_offset_ = size_log_ = pulse_log_ = 0.0;
+  cycle_chi_ = cycle_size_ = cycle_offset_ = size_log_ = 0.0;
   schedule_ = calibration_.schedule(gains_.schedule);
   other_schedule_ = calibration_.schedule(otherSchedule(gains_.schedule));
   other_size_log_ = 0.0;
@@ -99,7 +99,7 @@ void MassTransformerController::reset() {
   trim_.reset();
   pitch_model_.reset();
   last_retrim_ = cycle_up_ = cycle_elevation_ = 0.0;
-  within_since_ = aligned_since_ = rescue_outside_ = 0.0;
+  within_since_ = aligned_since_ = 0.0;
   stall_reference_ = INFINITY;
 }
 
@@ -221,8 +221,8 @@ double MassTransformerController::motorCommand(double time) {
 double MassTransformerController::sliderCommand(double dt) {
   const double lo = sliderLow(), hi = sliderHigh();
   if (status_.imu_stale) return last_slider_;  // no tilt: hold
-  if (gains_.cycle_pitch) {  // at the park estimate, offset through a cycle or a rescue
-    const double command = status_.park_estimate + cyclePitchOffset(dt);
+  if (gains_.cycle_pitch) {                    // at the park estimate, offset through a cycle
+    const double command = status_.park_estimate + status_.cycle_offset;
     status_.slider_saturated = command > hi || command < lo;
     return std::clamp(command, lo, hi);
   }
@@ -271,18 +271,12 @@ double MassTransformerController::steerOffset() {
                     gains_.max_steer_offset);
 }
 
-double MassTransformerController::pitchGain() const {
-  return calibration_.pitch_rate_per_slider * std::max(std::cos(elevation_), kMinCosElevation);
-}
-
-double MassTransformerController::proportionalPitchOffset(double error) const {
-  const double limit = pitchOffsetLimit();
-  return std::clamp(error / (pitchGain() * gains_.tilt_time_constant), -limit, limit);
-}
-
 double MassTransformerController::pitchOffset(double error, double dt, double lo, double hi) {
-  double proportional = proportionalPitchOffset(error);
-  const double limit = pitchOffsetLimit();
+  const double k = calibration_.pitch_rate_per_slider *
+                   std::max(std::cos(elevation_), kMinCosElevation);  // [rad/s per m]
+  // [m]; no more than the offset that pitches at max_pitch_rate.
+  const double limit = gains_.max_pitch_rate / k;
+  double proportional = std::clamp(error / (k * gains_.tilt_time_constant), -limit, limit);
   // With offset steering, never below min_pitch_offset: smaller offsets mostly turn the robot
   // (docs/model.md 7.4), so a loop lingering near its target would steer instead of pitch.
   if (gains_.steer_by_offset && std::abs(proportional) < gains_.min_pitch_offset)

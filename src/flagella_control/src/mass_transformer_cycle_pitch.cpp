@@ -19,8 +19,6 @@ constexpr double kDirectionShare = 0.3;
 constexpr double kAgreedDirection = 0.35;  // [rad]
 constexpr double kAgreedSizeRatio = 1.5;
 constexpr double kLargestSizeRatio = 16.0;  // a size error counts at most ln of this
-constexpr double kLargestPulseStep = 4.0;   // pulse_regulation counts a size ratio at most so
-constexpr double kPulseDeadBand = 1.5;      // ... and none within this factor of the calibrated
 }  // namespace
 
 double MassTransformerController::cyclePitchCommand(double time) {
@@ -30,7 +28,7 @@ double MassTransformerController::cyclePitchCommand(double time) {
   const double up_error = status_.target_elevation - elevation_;
   const double left_error = status_.azimuth_error * std::cos(elevation_);
   const bool wants_turn = std::hypot(up_error, left_error) > gains_.turn_threshold &&
-                          time >= next_cycle_allowed_ && !status_.imu_stale && !status_.pitching;
+                          time >= next_cycle_allowed_ && !status_.imu_stale;
   if (!wants_turn) return cruise;
   const double wanted_up = std::clamp(up_error, -gains_.max_cycle_up, gains_.max_cycle_up);
   const double wanted_left = std::clamp(left_error, -gains_.max_cycle_up, gains_.max_cycle_up);
@@ -42,9 +40,7 @@ double MassTransformerController::cyclePitchCommand(double time) {
   double best = bestMiss(schedule_, wanted_up, wanted_left);
   if (gains_.mixed_schedules) {  // the schedule whose best phase comes nearer
     const double other = bestMiss(other_schedule_, wanted_up, wanted_left);
-    // With turn learning, each as near as its learnt spread lets it be expected to come.
-    const double weight = gains_.turn_learning > 0.0 ? gains_.spread_weight : 0.0;
-    if (other + weight * other_schedule_.phase_spread < best + weight * schedule_.phase_spread) {
+    if (other < best) {
       std::swap(schedule_, other_schedule_);
       std::swap(size_log_, other_size_log_);
       best = other;
@@ -66,30 +62,6 @@ double MassTransformerController::cyclePitchCommand(double time) {
   cycle_size_ = schedule_.deflection;
   status_.pulse_omega = schedule_.pulse_omega;
   return schedule_.omegaAt(0.0, cruise);
-}
-
-double MassTransformerController::cyclePitchOffset(double dt) {
-  // docs/model.md 7.4: a large elevation error (a park estimate far off) is taken back by the
-  // slider loop, cycles waiting; its integral moves the park estimate.
-  const double error = status_.target_elevation - elevation_;
-  const bool settled = !status_.in_cycle && last_time_ >= next_cycle_allowed_;
-  if (gains_.rescue_error > 0.0 && settled && !status_.pitching &&
-      std::abs(error) > gains_.rescue_error) {
-    status_.pitching = true;
-    ++status_.rescues;
-  }
-  if (!status_.pitching) return status_.cycle_offset;
-  if (std::abs(error) > gains_.rescue_exit) rescue_outside_ = last_time_;
-  if (last_time_ - rescue_outside_ >= gains_.rescue_hold) {
-    status_.pitching = false;
-    next_cycle_allowed_ = last_time_;
-    return status_.cycle_offset;
-  }
-  const double offset = proportionalPitchOffset(error);
-  if (std::abs(offset) < pitchOffsetLimit())  // anti-windup: no integral at the limit
-    status_.park_estimate = std::clamp(
-        status_.park_estimate + offset * dt / gains_.tilt_integral_time, sliderLow(), sliderHigh());
-  return offset;
 }
 
 double MassTransformerController::cycleMiss(const BuckleSchedule& schedule, double chi,
@@ -139,11 +111,10 @@ void MassTransformerController::sizeCycle(double wanted, double size_log,
   const double calibrated_factor = calibrated.pulse_omega / threshold;
   const double size = std::clamp(wanted, std::min(gains_.turn_threshold, gains_.max_cycle_turn),
                                  gains_.max_cycle_turn);
-  // pulse_growth 0: the calibrated pulse (times the regulated scale), its turn as learnt.
+  // pulse_growth 0: the calibrated pulse, its turn as learnt.
   const double factor =
       gains_.pulse_growth == 0.0
-          ? std::clamp(calibrated_factor * std::exp(pulse_log_), gains_.min_pulse_factor,
-                       std::max(gains_.max_pulse_factor, calibrated_factor))
+          ? calibrated_factor
           : std::clamp(calibrated_factor + (std::log(size / calibrated.deflection) - size_log) /
                                                gains_.pulse_growth,
                        gains_.min_pulse_factor, gains_.max_pulse_factor);
@@ -163,23 +134,10 @@ bool MassTransformerController::learnTurn(double up, double left) {
   const double phase_up = up - schedule_.bias_up - schedule_.up_per_slider * cycle_offset_;
   const double phase_left = left - schedule_.bias_left - schedule_.left_per_slider * cycle_offset_;
   const double size = std::hypot(phase_up, phase_left);
-  // The spread: RMS error of the prediction this cycle was started on.
-  const double miss = std::hypot(phase_up - cycle_size_ * std::cos(cycle_chi_),
-                                 phase_left - cycle_size_ * std::sin(cycle_chi_));
-  const double spread2 = schedule_.phase_spread * schedule_.phase_spread;
-  schedule_.phase_spread = std::sqrt(spread2 + gains_.turn_learning * (miss * miss - spread2));
   const double size_error =
       std::log(std::clamp(size, cycle_size_ / kLargestSizeRatio, cycle_size_ * kLargestSizeRatio) /
                cycle_size_);
   size_log_ += gains_.turn_learning * size_error;
-  // The pulse toward the rate whose turn has the calibrated size (pulse_regulation), for a
-  // size off it by more than a factor kPulseDeadBand.
-  if (gains_.pulse_growth == 0.0) {
-    const double off = std::clamp(std::log(size / calibration_.schedule(schedule_.kind).deflection),
-                                  -std::log(kLargestPulseStep), std::log(kLargestPulseStep));
-    const double beyond = std::max(0.0, std::abs(off) - std::log(kPulseDeadBand));
-    pulse_log_ -= gains_.pulse_regulation * std::copysign(beyond, off);
-  }
   status_.turn_gain = std::exp(size_log_);
   const double direction_error = wrapAngle(std::atan2(phase_left, phase_up) - cycle_chi_);
   const bool has_direction = size > kDirectionShare * cycle_size_;

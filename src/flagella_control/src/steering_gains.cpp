@@ -64,12 +64,6 @@ constexpr NamedGain kNamedGains[] = {
     {"settle_time", &SteeringGains::settle_time, "s", "after a buckle cycle, before the next"},
     {"max_cycle_offset", &SteeringGains::max_cycle_offset, "m",
      "cycle_pitch: largest slider offset from the park estimate through a cycle"},
-    {"rescue_error", &SteeringGains::rescue_error, "rad",
-     "cycle_pitch: an elevation error beyond this (a cycle settled) is taken back by the slider "
-     "loop, cycles waiting (0: never)"},
-    {"rescue_exit", &SteeringGains::rescue_exit, "rad",
-     "cycle_pitch: ... until the error has stayed within this"},
-    {"rescue_hold", &SteeringGains::rescue_hold, "s", "cycle_pitch: ... for this long"},
     {"max_cycle_up", &SteeringGains::max_cycle_up, "rad",
      "cycle_pitch: largest up- or down-turn one cycle is asked for"},
     {"park_learning", &SteeringGains::park_learning, "",
@@ -82,17 +76,11 @@ constexpr NamedGain kNamedGains[] = {
     {"pulse_growth", &SteeringGains::pulse_growth, "",
      "turn learning: d ln(turn by phase) / d(pulse rate over omega_b) for sizing cycles (0: the "
      "calibrated pulse)"},
-    {"pulse_regulation", &SteeringGains::pulse_regulation, "",
-     "turn learning with pulse_growth 0: share of ln(calibrated / measured turn size) moving "
-     "ln(pulse rate) of both schedules after each cycle (0: off)"},
     {"min_pulse_factor", &SteeringGains::min_pulse_factor, "",
      "turn learning keeps the pulse rate above this multiple of omega_b"},
     {"max_pulse_factor", &SteeringGains::max_pulse_factor, "",
      "turn learning keeps the pulse rate below this multiple of omega_b"},
 
-    {"spread_weight", &SteeringGains::spread_weight, "",
-     "mixed_schedules with turn_learning: a schedule's expected miss adds this multiple of its "
-     "learnt spread (RMS error of its predicted turn by phase)"},
     {"max_elevation", &SteeringGains::max_elevation, "rad", "limit of a leg's target elevation"},
     {"tilt_time_constant", &SteeringGains::tilt_time_constant, "s",
      "closed-loop time constant of the slider (elevation) loop"},
@@ -190,18 +178,12 @@ void SteeringGains::validate() const {
   requireInRange(kContext, "settle_time", settle_time, 0.0, 600.0);
   requireInRange(kContext, "max_cycle_offset", max_cycle_offset, 0.0, 0.01);
   requireInRange(kContext, "max_cycle_up", max_cycle_up, 0.0, M_PI / 2);
-  requireInRange(kContext, "rescue_exit", rescue_exit, 0.0, M_PI / 2);
-  requireInRange(kContext, "rescue_hold", rescue_hold, 0.0, 600.0);
-  if (rescue_error != 0.0)
-    requireInRange(kContext, "rescue_error", rescue_error, rescue_exit, M_PI);
   requireInRange(kContext, "park_learning", park_learning, 0.0, 1.0);
   requireInRange(kContext, "turn_learning", turn_learning, 0.0, 1.0);
   requireInRange(kContext, "max_cycle_turn", max_cycle_turn, 1e-3, M_PI / 2);
   requireInRange(kContext, "pulse_growth", pulse_growth, 0.0, 100.0);
-  requireInRange(kContext, "pulse_regulation", pulse_regulation, 0.0, 1.0);
   requireInRange(kContext, "min_pulse_factor", min_pulse_factor, 1.0, 10.0);
   requireInRange(kContext, "max_pulse_factor", max_pulse_factor, min_pulse_factor, 10.0);
-  requireInRange(kContext, "spread_weight", spread_weight, 0.0, 10.0);
   requireInRange(kContext, "max_elevation", max_elevation, 0.0, flip_elevation);
   requireInRange(kContext, "tilt_time_constant", tilt_time_constant, 0.1, 600.0);
   requireInRange(kContext, "max_pitch_rate", max_pitch_rate, 1e-3, 10.0);

@@ -468,55 +468,6 @@ TEST(MassTransformerController, CyclePitchReachesAClimbByCyclesWithTheSliderNear
   }
 }
 
-TEST(MassTransformerController, CyclePitchHandsALargeElevationErrorToTheSliderLoop) {
-  // The true park 300 um off the estimate (no start-frame trim, no learning from the cycles, as
-  // when their turns disagree with the model): cruising there pitches the robot at 1.7 deg/s,
-  // and cycles held at most 40 um off the estimate cannot take that back, so the robot pitches
-  // away from a level waypoint. With rescue_error the slider loop takes back the elevation
-  // error once it passes 30 deg (no cycle starts meanwhile), its integral moves the park
-  // estimate toward the truth, and the waypoint is passed.
-  constexpr double kParkError = 300e-6;  // [m]
-  const fc::SteeringCalibration c = cyclePitchCalibration();
-  const Vec3 waypoint(0.3, 0.05, 0.0);
-  for (const double rescue : {30 * kDeg, 0.0}) {
-    fc::SteeringGains gains = cyclePitchGains();
-    gains.trim_neutral = gains.retrim_neutral = false;
-    gains.park_learning = 0.0;
-    gains.rescue_error = rescue;
-    fc::MassTransformerController controller(mission({waypoint}, 0.01), c, gains);
-    Plant plant = legacyPlant();
-    plant.truth = c;
-    plant.slider_error = kParkError;
-    plant.cycle_up_per_slider = amplifiedUpPerSlider(c);
-    plant.cycle_left_per_slider = c.relax.left_per_slider;
-    double closest = INFINITY, steepest = 0.0;
-    long cycles_while_rescuing = 0, cycles = 0;
-    for (long k = 0; k < 1500 * kRate; ++k) {
-      const bool rescuing = controller.status().pitching;
-      plant.apply(controller.step(plant.sense()));
-      if (controller.status().cycles > cycles && rescuing) ++cycles_while_rescuing;
-      cycles = controller.status().cycles;
-      steepest = std::max(steepest, std::abs(fc::elevationOf(plant.forward)));
-      closest = std::min(closest, (plant.position - waypoint).norm());
-      if (controller.status().mode == fc::SteeringMode::Finished) break;
-    }
-    const fc::SteeringStatus& st = controller.status();
-    const double truth = c.park_position - kParkError;
-    if (rescue > 0.0) {
-      EXPECT_GE(st.rescues, 1);
-      EXPECT_EQ(cycles_while_rescuing, 0);
-      EXPECT_LT(steepest, 45 * kDeg) << "steepest " << steepest / kDeg << " deg";
-      EXPECT_LT(std::abs(st.park_estimate - truth), 0.5 * kParkError)
-          << "park estimate " << st.park_estimate << ", truth " << truth;
-      EXPECT_LT(closest, 0.01) << "closest approach " << closest;
-    } else {
-      EXPECT_EQ(st.rescues, 0);
-      EXPECT_GT(steepest, 60 * kDeg) << "steepest " << steepest / kDeg << " deg";
-      EXPECT_GT(closest, 0.01) << "closest approach " << closest;
-    }
-  }
-}
-
 TEST(MassTransformerController, TurnLearningSizesTheCyclesAndLearnsTheTurnTheModelGotWrong) {
   // The robot's cycles turn 0.3 of the calibrated size at every pulse rate, 0.8 rad further
   // round than the phase law says (as a model 20 % too stiff: README, "The source's steering

@@ -107,18 +107,8 @@ struct SteeringGains {
   /// loop, no turns at elevation. Needs a calibration with up_per_slider.
   bool cycle_pitch = false;
   double max_cycle_offset = 4e-5;  ///< largest such offset from the park estimate [m]
-  /// cycle_pitch: an elevation error beyond this after a cycle has settled hands the elevation
-  /// to the slider loop (PI: its proportional offset from the park estimate, at most
-  /// max_pitch_rate, and its integral, tilt_integral_time, moving the park estimate) and the
-  /// cycles wait until the error has stayed within rescue_exit for rescue_hold (0: never). A
-  /// park estimate off by 100 um pitches the source's robot 0.44 deg/s, more than cycles held
-  /// 40 um off it can take back, until it hangs nose-down or nose-up where the slider's couple
-  /// fades (cos elevation) [rad].
-  double rescue_error = 0.0;
-  double rescue_exit = 0.1;    ///< [rad]
-  double rescue_hold = 30.0;   ///< [s]: the integral settles on the park
-  double max_cycle_up = 0.35;  ///< largest up- or down-turn one cycle is asked for [rad]
-  double park_learning = 0.5;  ///< share of a cycle's measured up-turn error corrected
+  double max_cycle_up = 0.35;      ///< largest up- or down-turn one cycle is asked for [rad]
+  double park_learning = 0.5;      ///< share of a cycle's measured up-turn error corrected
   /// cycle_pitch: the turn per cycle learnt online (docs/model.md 7.4): after each settled cycle,
   /// the log of the turn's size over the predicted moves the learnt size gain by this share, and
   /// the phase offset moves by this share of the direction's error; with pulse_growth > 0 each
@@ -133,25 +123,12 @@ struct SteeringGains {
   /// turn table) [1]; 0 (default): every cycle at the calibrated pulse, its turn as learnt (at
   /// 3 omega_b for 2 s the turn no longer grows so).
   double pulse_growth = 0.0;
-  /// cycle_pitch with turn_learning and pulse_growth 0: the pulse rate of both schedules (one
-  /// scale: the robot's threshold is one) regulated so that a cycle's turn by phase has its
-  /// calibrated size: after each settled cycle, ln(pulse scale) moves by this share of
-  /// ln(calibrated size / measured size) (at most ln 4 counted; 0: off). A robot softer than the
-  /// model pulses too far above its own threshold, and its cycles turn 40-150 deg at random
-  /// phases; nearer its threshold they turn as calibrated, predictably.
-  double pulse_regulation = 0.0;
   double min_pulse_factor = 1.1;  ///< turn learning keeps the pulse above this x omega_b [1]
   double max_pulse_factor = 2.0;  ///< ... and below this [1]
   /// cycle_pitch: each cycle by the schedule (relax or three_level) whose best phase comes
   /// nearer the wanted turn, both as calibrated (and learnt alike): on the source's robot, pulses
   /// of 3 omega_b for 2 s turn it 8.8 deg (relax) or 28.9 deg (three_level) by phase.
   bool mixed_schedules = false;
-  /// mixed_schedules with turn_learning: a schedule's expected miss is its best phase's miss plus
-  /// this multiple of its spread, the RMS error of its predicted turn by phase (from the
-  /// calibration's phase_spread, then learnt at the turn_learning rate from each measured cycle
-  /// before that cycle corrects the prediction): a schedule whose turns scatter on this robot
-  /// (three_level on a model 20 % too soft: 30-150 deg at random phases) gives way to the other.
-  double spread_weight = 1.0;
   double max_elevation = 0.6;         ///< limit of a leg's target elevation (34 deg) [rad]
   double tilt_time_constant = 6.0;    ///< closed-loop time constant of the slider loop [s]
   double max_pitch_rate = 0.15;       ///< the slider loop asks for no faster pitch [rad/s]
@@ -250,7 +227,6 @@ struct SteeringStatus {
   bool imu_stale = false, fix_stale = false, slider_saturated = false;
   double crab = 0.0;  ///< course minus head-axis azimuth, as learnt (or set by the offset) [rad]
   bool pitching = false;       ///< the slider is changing the elevation
-  long rescues = 0;            ///< cycle_pitch: elevation errors handed to the slider loop
   double neutral = 0.0;        ///< the slider position estimated to give no couple [m]
   double steer_offset = 0.0;   ///< the steering offset from it [m]
   double trim_neutral = NAN;   ///< the neutral the start frame's pitch gave (NaN before) [m]
@@ -299,9 +275,6 @@ class MassTransformerController : public ControllerCore {
   /// ... the least of that over the phases [rad].
   double bestMiss(const BuckleSchedule& schedule, double wanted_up, double wanted_left) const;
   double cyclePitchCommand(double time);  ///< cycle_pitch: the motor command (cycles)
-  /// cycle_pitch: the slider's offset from the park estimate: the running cycle's, or the
-  /// slider loop's while it takes back a large elevation error (rescue_error) [m].
-  double cyclePitchOffset(double dt);
   /// cycle_pitch: after a cycle has settled, its measured up-turn corrects the park estimate.
   void learnPark();
   /// cycle_pitch with turn_learning: after a cycle has settled, its measured turn corrects the
@@ -331,12 +304,6 @@ class MassTransformerController : public ControllerCore {
   double steerOffset();  ///< steering offset from the neutral [m]
   /// Elevation loop's offset from the neutral [m] (its integral moves the neutral).
   double pitchOffset(double error, double dt, double lo, double hi);
-  /// The slider loop's gain: pitch rate per metre of offset at this elevation [rad/s per m].
-  double pitchGain() const;
-  /// ... its largest offset, the one that pitches at max_pitch_rate [m].
-  double pitchOffsetLimit() const { return gains_.max_pitch_rate / std::abs(pitchGain()); }
-  /// ... its proportional offset for this elevation error (without min_pitch_offset) [m].
-  double proportionalPitchOffset(double error) const;
   ControllerOutputs output(double motor, double slider, ControllerMode mode) const;
 
   WaypointMission mission_;
@@ -385,11 +352,9 @@ class MassTransformerController : public ControllerCore {
   bool cycle_to_measure_ = false;
   // its predicted direction and size [rad], slider offset [m]
   double cycle_chi_ = 0.0, cycle_size_ = 0.0, cycle_offset_ = 0.0;
-  double size_log_ = 0.0;        // turn learning: ln of the learnt turn size over the model's
-  double pulse_log_ = 0.0;       // pulse_regulation: ln of the pulse rate over the calibrated
-  double within_since_ = 0.0;    ///< last time the elevation error was within tilt_mode_threshold
-  double rescue_outside_ = 0.0;  ///< rescue: last time the error was beyond rescue_exit [s]
-  double aligned_since_ = 0.0;   ///< the azimuth error last within stall_error or shrinking [s]
+  double size_log_ = 0.0;       // turn learning: ln of the learnt turn size over the model's
+  double within_since_ = 0.0;   ///< last time the elevation error was within tilt_mode_threshold
+  double aligned_since_ = 0.0;  ///< the azimuth error last within stall_error or shrinking [s]
   double stall_reference_ = INFINITY;  ///< |azimuth error| then [rad]
   NeutralTrim trim_;                   ///< the neutral from the pitch of the start frame's cruise
   PitchModelEstimator pitch_model_;    ///< neutral and pitch rate from the mission's pitch
