@@ -36,12 +36,24 @@ double chiSquareCritical(int k) {
 
 namespace {
 
+/// The start of a fit and where it came from, in words (ModelOutcome::starts).
+struct StartChoice {
+  std::vector<double> values;
+  std::string description;
+};
+
+/// Where a fit inheriting `reference`'s values starts from, in words.
+std::string referenceStartText(const ModelOutcome& reference) {
+  return reference.label.empty() ? "the config's values" : "the " + reference.label + " optimum";
+}
+
 /// Start values for fitting `model` (the baseline plus `effects`): the reference model's values
 /// where the parameters coincide, and for each new candidate the best of its start points
 /// (training chi^2) with the others fixed. Adds the model evaluations to `evaluations`.
-std::vector<double> bestStartValues(const Evaluator& evaluator, const Model& model,
-                                    const std::vector<const Candidate*>& effects,
-                                    const ModelOutcome& reference, int& evaluations) {
+StartChoice bestStartValues(const Evaluator& evaluator, const Model& model,
+                            const std::vector<const Candidate*>& effects,
+                            const ModelOutcome& reference, int& evaluations) {
+  std::string description = "from " + referenceStartText(reference);
   // Start from the reference model's values where the parameters coincide.
   const std::vector<double> config_values = model.values();
   std::vector<double> values = config_values;
@@ -75,6 +87,9 @@ std::vector<double> bestStartValues(const Evaluator& evaluator, const Model& mod
         }
       const std::vector<Evaluation> evals = evaluator.evaluateMany(model, trials, Part::kTrain);
       evaluations += static_cast<int>(trials.size());
+      description += formatted("; best of %.0f starts for ", trials.size()) + c->name + " (" +
+                     (c->off.empty() ? "" : "off, ") +
+                     "its start points at the reference's and the config's baseline values)";
       double best = std::numeric_limits<double>::infinity();
       for (size_t k = 0; k < trials.size(); ++k)
         if (evals[k].ok && chiSquare(evals[k]) < best) {
@@ -84,7 +99,7 @@ std::vector<double> bestStartValues(const Evaluator& evaluator, const Model& mod
     }
     offset += c->variables.size();
   }
-  return values;
+  return {values, description};
 }
 
 /// The held-out scores of a fitted outcome whose held-out evaluation succeeded: noise test,
@@ -197,6 +212,18 @@ int rowCount(const MeasuredData& data) {
   return rows;
 }
 
+/// IdentifyOptions::single_fit_max_iterations: 0 (no cap) or 1 to fit.max_iterations, never
+/// clamped.
+void checkSingleFitCap(const IdentifyOptions& options) {
+  const int cap = options.single_fit_max_iterations;
+  const int most = options.fit.max_iterations;
+  if (cap == 0 || (cap >= 1 && cap <= most)) return;
+  throw ConfigError(
+      formatted("IdentifyOptions::single_fit_max_iterations must be 0 (no cap) or in [1, %.0f] "
+                "(fit.max_iterations), got %.0f",
+                most, cap));
+}
+
 /// docs/model.md 7.6: a baseline off its map is never used silently: the summary says so.
 void cautionOffTheMap(IdentifyResult& result) {
   const ModelOutcome& b = result.baseline;
@@ -219,6 +246,7 @@ Identification::Identification(MeasuredData data, YAML::Node baseline, std::stri
       evaluator_(data_,
                  crossValidated(data_, options_) ? trainingOnlySplit(data_) : makeSplit(data_),
                  options_.evaluator) {
+  checkSingleFitCap(options_);
   checkDataOverrides(data_, baseline_, source_, fittedNames(options_.free, options_.candidates));
 }
 
@@ -286,7 +314,9 @@ ModelOutcome Identification::fitFrom(const std::vector<const Candidate*>& effect
   out.label = effects.empty() ? "baseline" : joined(out.effects, " + ");
   out.continuation = features != nullptr;
   const Evaluator& first = features ? *features : evaluator_;
-  model.setValues(bestStartValues(first, model, effects, reference, out.evaluations));
+  const StartChoice start = bestStartValues(first, model, effects, reference, out.evaluations);
+  model.setValues(start.values);
+  out.starts = {start.description};
   say("  fitting " + out.label + " (" + std::to_string(model.parameters().size()) + " parameters)" +
       (features ? " on the summary features" : ""));
   FitOptions options = fitOptionsFor(data_, options_.fit);
@@ -526,54 +556,135 @@ void Identification::tryPairs(IdentifyResult& result, std::optional<ModelOutcome
     }
     if (const ModelOutcome* best_pair = bestSignificant(result.combinations)) {
       chosen = *best_pair;
-      if (options_.pair_rule) checkPairAgainstItsSingle(result, chosen, first);
+      if (options_.pair_rule) checkPairAgainstItsSingles(result, chosen);
     }
   }
 }
 
-void Identification::checkPairAgainstItsSingle(IdentifyResult& result,
-                                               std::optional<ModelOutcome>& chosen,
-                                               const ModelOutcome& first) {
-  // docs/model.md 7.6: no verdict may rest on a fit that stopped short of its optimum. The pair
-  // started from `first`; if the second effect only finished what the first one's fit left
-  // undone, the first effect alone, fitted from the pair's optimum, reaches the pair's bar.
+namespace {
+
+/// How one start of a refit ended, in words (ModelOutcome::starts).
+std::string startEnding(const std::string& where, const ModelOutcome& fit) {
+  if (!fit.fitted) return "from " + where + ": not fitted (" + fit.note + ")";
+  return "from " + where +
+         formatted(": training chi^2 %.6g, %.0f iterations, ", fit.train_chi_square,
+                   fit.iterations) +
+         (fit.converged ? "converged" : "not converged") +
+         (std::isfinite(fit.gradient_max_norm)
+              ? formatted(" (largest gradient component %.3g)", fit.gradient_max_norm)
+              : std::string());
+}
+
+/// The outcome labelled `label` in `outcomes`, or nullptr.
+const ModelOutcome* outcomeLabelled(const std::vector<ModelOutcome>& outcomes,
+                                    const std::string& label) {
+  for (const ModelOutcome& m : outcomes)
+    if (m.label == label) return &m;
+  return nullptr;
+}
+
+/// The fitted outcome of lowest selection score; nullptr if none is fitted.
+const ModelOutcome* bestFitted(const std::vector<ModelOutcome>& outcomes) {
+  const ModelOutcome* best = nullptr;
+  for (const ModelOutcome& m : outcomes)
+    if (m.fitted && (!best || selectionScore(m) < selectionScore(*best))) best = &m;
+  return best;
+}
+
+/// "dc_motor held-out chi^2 14.6 (first fit 2781)" for each refit, joined by commas.
+std::string refitFigures(const std::vector<ModelOutcome>& refits,
+                         const std::vector<ModelOutcome>& candidates) {
+  std::vector<std::string> parts;
+  for (const ModelOutcome& m : refits) {
+    const ModelOutcome* first = outcomeLabelled(candidates, m.label);
+    const std::string before =
+        first && first->fitted ? formatted(" (first fit %.4g)", first->held_out_chi_square) : "";
+    parts.push_back(m.label +
+                    (m.fitted ? formatted(" held-out chi^2 %.4g", m.held_out_chi_square)
+                              : " not fitted (" + m.note + ")") +
+                    before);
+  }
+  return joined(parts, ", ");
+}
+
+}  // namespace
+
+ModelOutcome Identification::refitAlone(IdentifyResult& result, const ModelOutcome& pair,
+                                        size_t member) {
+  const Candidate& effect = candidateByName(pair.effects[member]);
+  const ModelOutcome* own = outcomeLabelled(result.candidates, effect.name);
+  // docs/model.md 7.6 (the pair rule): from the pair's optimum with the other effect off, and
+  // from the start the tool already has: its own first fit, taken as it is if it converged,
+  // else continued from its end (from its start points if it failed)
+  std::vector<std::string> where = {"the pair's optimum with " + pair.effects[1 - member] + " off"};
+  say("  " + effect.name + " alone from " + where[0]);
+  std::vector<ModelOutcome> fits = {fitOnTraining({&effect}, pair)};
+  int evaluations = fits[0].evaluations;
+  const bool own_final = own && own->fitted && own->converged;
+  if (own_final) {
+    where.push_back("its first fit (converged, not fitted again)");
+    fits.push_back(*own);
+  } else {
+    const bool from_end = own && own->fitted;
+    where.push_back(from_end ? "the end of its first fit" : "its start points from the baseline");
+    say("  " + effect.name + " alone from " + where[1]);
+    fits.push_back(fitOnTraining({&effect}, from_end ? *own : result.baseline));
+    evaluations += fits[1].evaluations;
+  }
+  const bool second_better =
+      fits[1].fitted && (!fits[0].fitted || fits[1].train_chi_square < fits[0].train_chi_square);
+  const size_t best = second_better ? 1 : 0;
+  ModelOutcome kept = fits[best];
+  kept.evaluations = evaluations;
+  kept.starts.clear();
+  for (size_t k = 0; k < fits.size(); ++k)
+    kept.starts.push_back(startEnding(where[k], fits[k]) + (k == best ? " (kept)" : ""));
+  if (kept.fitted && !(own_final && best == 1)) judge(kept, result.baseline);
+  result.total_evaluations += kept.evaluations;
+  return kept;
+}
+
+void Identification::checkPairAgainstItsSingles(IdentifyResult& result,
+                                                std::optional<ModelOutcome>& chosen) {
+  // docs/model.md 7.6: no verdict may rest on a fit that stopped short of its optimum. If the
+  // second effect only finished what one effect's fit left undone, that effect alone, fitted
+  // again to its optimum, comes within the bar of the pair.
   const ModelOutcome pair = *chosen;
-  say("before naming " + pair.label + ": " + first.label +
-      " fitted again alone from the pair's optimum (the second effect off)");
-  ModelOutcome again = fitOnTraining({&candidateByName(first.effects[0])}, pair);
-  result.total_evaluations += again.evaluations;
-  if (again.fitted) judge(again, result.baseline);
-  if (!again.fitted) {
-    result.pair_check =
-        "the first effect alone could not be fitted again from the pair's "
-        "optimum (" +
-        again.note + "); the pair stands";
+  say("before naming " + pair.label + ": each of its effects fitted again alone (never capped)");
+  for (size_t member = 0; member < pair.effects.size(); ++member)
+    result.pair_refits.push_back(refitAlone(result, pair, member));
+  const std::string figures = refitFigures(result.pair_refits, result.candidates);
+  const ModelOutcome* single = bestFitted(result.pair_refits);
+  if (!single) {
+    result.pair_check = "neither effect alone could be fitted again (" + figures +
+                        "); the pair stands on fits that may be short of their optimum";
     say("  " + result.pair_check);
     return;
   }
-  // The pair against the refit single, as judge() tests any nested model: its held-out gain
-  // beyond the parsimony penalty and the critical value of the second effect's parameters
+  // The pair against the better refit single, as judge() tests any nested model: its held-out
+  // gain beyond the parsimony penalty and the critical value of the other effect's parameters
   // (and, with cross validation, its drop of the training chi^2 too).
   ModelOutcome against = pair;
-  scoreAgainst(against, again);
-  const bool pair_needed = against.significant;
+  scoreAgainst(against, *single);
   const double bar = against.penalty + against.critical;
   result.pair_check =
-      first.label +
-      formatted(
-          " fitted again alone from the pair's optimum: held-out chi^2 %.4g "
-          "(first fit %.4g), the pair %.4g; the pair ",
-          again.held_out_chi_square, first.held_out_chi_square, pair.held_out_chi_square) +
-      (pair_needed ? formatted("still lowers it by %.3g, more than the bar %.3g: named",
-                               against.improvement, bar)
-                   : formatted("lowers it by only %.3g (the bar is %.3g): not named, the single "
-                               "effect is judged again",
-                               against.improvement, bar));
+      "each effect fitted again alone: " + figures + "; against the better, " + single->label +
+      formatted(", the pair (held-out chi^2 %.4g) gains %.3g on it and ", pair.held_out_chi_square,
+                against.improvement) +
+      formatted(against.significant ? "clears the bar %.3g" : "does not clear the bar %.3g", bar) +
+      (folds_ ? " (held-out and training chi^2)" : "") +
+      (against.significant ? ": named"
+                           : ": the pair is not named, the single effects are judged again");
   say("  " + result.pair_check);
-  if (pair_needed) return;
-  for (ModelOutcome& m : result.candidates)
-    if (m.label == again.label && again.train_chi_square < m.train_chi_square) m = again;
-  chosen = again.significant ? again : first;
+  if (against.significant) return;
+  const ModelOutcome fallback = *single;
+  for (const ModelOutcome& refit : result.pair_refits)
+    for (ModelOutcome& m : result.candidates)
+      if (refit.fitted && m.label == refit.label &&
+          (!m.fitted || refit.train_chi_square < m.train_chi_square))
+        m = refit;
+  const ModelOutcome* best = bestSignificant(result.candidates);
+  chosen = best ? *best : fallback;
 }
 
 namespace {

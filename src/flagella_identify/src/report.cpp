@@ -84,7 +84,15 @@ json outcomeJson(const ModelOutcome& m) {
           {"fit_iterations", m.iterations},
           {"fit_converged", m.converged},
           {"fit_gradient_max_norm",
-           std::isfinite(m.gradient_max_norm) ? json(m.gradient_max_norm) : json(nullptr)}};
+           std::isfinite(m.gradient_max_norm) ? json(m.gradient_max_norm) : json(nullptr)},
+          {"fit_starts", m.starts}};
+}
+
+/// How a fit ended, for the Markdown tables: iterations, convergence, largest gradient.
+std::string fitEnding(const ModelOutcome& m) {
+  return std::to_string(m.iterations) + " it., " + (m.converged ? "converged" : "not converged") +
+         (std::isfinite(m.gradient_max_norm) ? ", max gradient " + num(m.gradient_max_norm, 3)
+                                             : std::string());
 }
 
 std::string parameterTable(const std::vector<FitParameter>& ps) {
@@ -158,7 +166,9 @@ json reportJson(const IdentifyResult& r, const ReportInputs& inputs, const std::
   j["verdict"] = verdictText(r.verdict);
   j["named_causes"] = r.named;
   j["summary"] = r.summary;
-  j["pair_check"] = r.pair_check;  // docs/model.md 7.6: a pair against its first effect refit
+  j["pair_check"] = r.pair_check;  // docs/model.md 7.6: a pair against its effects refit alone
+  j["pair_refits"] = json::array();
+  for (const ModelOutcome& m : r.pair_refits) j["pair_refits"].push_back(outcomeJson(m));
   j["inputs"] = {{"data", inputs.data_files},
                  {"baseline_config", inputs.baseline_config},
                  {"command", inputs.command_line}};
@@ -235,22 +245,29 @@ void markdownHead(std::ostringstream& md, const IdentifyResult& r, const ReportI
      << " (1 - RMS z after / before; RMS z = 1 is the measurement noise).\n\n";
 }
 
-/// Section 3 of the Markdown report: one line per candidate and pair.
+/// One row of section 3: a candidate, a pair, or a refit of the pair rule.
+void candidateRow(std::ostringstream& md, const ModelOutcome& m, const std::string& label) {
+  if (!m.fitted) {
+    md << "| " << label << " | no: " << m.note << " | | | | | | | | |\n";
+    return;
+  }
+  md << "| " << label << " | yes | " << num(m.held_out_rms_z, 3) << " | " << num(m.improvement, 4)
+     << " | " << num(m.penalty + m.critical, 3) << " | " << (m.significant ? "yes" : "no") << " | "
+     << num(100.0 * m.explained, 3) << " % | " << num(m.noise_z, 3) << " | " << fitEnding(m)
+     << " | " << joined(m.starts, "; ") << " |\n";
+}
+
+/// Section 3 of the Markdown report: one line per candidate and pair, and the pair rule's
+/// refits (docs/model.md 7.6).
 void candidateSection(std::ostringstream& md, const IdentifyResult& r) {
   md << "## 3. Candidate effects\n\n| candidate | fitted | held-out RMS z | chi^2 drop | penalty + "
-        "critical | significant | share of excess explained | remaining noise z "
-        "|\n|---|---|---|---|---|---|---|---|\n";
+        "critical | significant | share of excess explained | remaining noise z | fit | starts "
+        "|\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto* list : {&r.candidates, &r.combinations})
-    for (const ModelOutcome& m : *list) {
-      if (!m.fitted) {
-        md << "| " << m.label << " | no: " << m.note << " | | | | | | |\n";
-        continue;
-      }
-      md << "| " << m.label << " | yes | " << num(m.held_out_rms_z, 3) << " | "
-         << num(m.improvement, 4) << " | " << num(m.penalty + m.critical, 3) << " | "
-         << (m.significant ? "yes" : "no") << " | " << num(100.0 * m.explained, 3) << " % | "
-         << num(m.noise_z, 3) << " |\n";
-    }
+    for (const ModelOutcome& m : *list) candidateRow(md, m, m.label);
+  for (const ModelOutcome& m : r.pair_refits)
+    candidateRow(md, m, m.label + " (refit alone, pair rule)");
+  if (!r.pair_check.empty()) md << "\nPair check (docs/model.md 7.6): " << r.pair_check << ".\n";
 }
 
 /// Section 3b of the Markdown report: the power of the data and the measurements that decide.
@@ -291,7 +308,7 @@ std::string reportMarkdown(const IdentifyResult& r, const ReportInputs& inputs,
      << parameterTable(r.baseline.parameters) << "\nTraining chi^2 "
      << num(r.baseline.train_chi_square) << " over " << r.baseline.train_count << " residuals"
      << (r.baseline.continuation ? " (fitted through the series' summary features first)" : "")
-     << ".\n\n";
+     << "; fit: " << fitEnding(r.baseline) << ", " << joined(r.baseline.starts, "; ") << ".\n\n";
   for (const std::string& w : r.baseline.warnings) md << "- **Off its map:** " << w << "\n";
   if (!r.baseline.warnings.empty()) md << "\n";
   md << "## 2. Diagnosis of the calibrated baseline (held-out data)\n\nHeld-out RMS z "

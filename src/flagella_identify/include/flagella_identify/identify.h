@@ -32,9 +32,10 @@ struct IdentifyOptions {
   bool continuation = true;
   EvaluatorOptions evaluator;
   FitOptions fit;
-  /// Caps the iterations of the single candidates' first fits (0: fit.max_iterations). A
+  /// Caps the iterations of the single candidates' first fits: 0 (no cap: fit.max_iterations)
+  /// or 1 to fit.max_iterations; anything else is refused (ConfigError naming the field). A
   /// diagnostic: it shows what the pair rule (docs/model.md 7.6) does with a single fit that
-  /// stopped short of its optimum; the rule's own refit is never capped.
+  /// stopped short of its optimum; the rule's own refits are never capped.
   int single_fit_max_iterations = 0;
   /// The pair rule itself (off: the pipeline without it, for before/after comparisons).
   bool pair_rule = true;
@@ -71,6 +72,9 @@ struct ModelOutcome {
   int iterations = 0;
   bool converged = false;
   double gradient_max_norm = std::numeric_limits<double>::quiet_NaN();
+  /// The starts the fit was run from, one line each ("best of 5 starts for dc_motor ..."); with
+  /// several, how each ended and which was kept.
+  std::vector<std::string> starts;
   Evaluation held_out;  ///< the fitted model's held-out residuals
 };
 
@@ -102,9 +106,11 @@ struct IdentifyResult {
   /// that would separate the ones they could not.
   std::vector<PowerCheck> power;
   std::vector<SuggestedMeasurement> suggestions;
-  /// The pair rule (docs/model.md 7.6): before a pair is named its first effect is fitted again
-  /// alone from the pair's optimum; what that gave, in words (empty when no pair was chosen).
+  /// The pair rule (docs/model.md 7.6): before a pair is named each of its effects is fitted
+  /// again alone (Identification::refitAlone); what that gave, in words (empty when no pair was
+  /// chosen), and those refits.
   std::string pair_check;
+  std::vector<ModelOutcome> pair_refits;
 };
 
 class Identification {
@@ -159,11 +165,16 @@ class Identification {
   /// mask a second effect, fits it paired with each other fitted candidate (into
   /// result.combinations) and replaces `chosen` by the best significant pair.
   void tryPairs(IdentifyResult& result, std::optional<ModelOutcome>& chosen);
-  /// The pair rule: `pair` (chosen over `first`) is kept only if it is still significant over
-  /// `first` fitted again alone from the pair's optimum (the second effect off); otherwise that
-  /// refit single effect is chosen. Says which in result.pair_check.
-  void checkPairAgainstItsSingle(IdentifyResult& result, std::optional<ModelOutcome>& chosen,
-                                 const ModelOutcome& first);
+  /// The pair rule: the pair `chosen` is kept only if it is still significant over the better
+  /// of its two effects, each fitted again alone (refitAlone); otherwise the refits replace the
+  /// single fits they improve and the best significant single effect is chosen. Says which in
+  /// result.pair_check, and keeps the refits in result.pair_refits.
+  void checkPairAgainstItsSingles(IdentifyResult& result, std::optional<ModelOutcome>& chosen);
+  /// Effect `member` (0 or 1) of `pair` alone, never capped: fitted from the pair's optimum
+  /// with the other effect off, against its own first fit if that converged, else fitted again
+  /// from that fit's end (from its start points if it failed); the one of lower training chi^2,
+  /// judged against the baseline, each start's ending in its `starts`.
+  ModelOutcome refitAlone(IdentifyResult& result, const ModelOutcome& pair, size_t member);
   /// With cross validation: the fewest rows any fold trains on.
   int fewestTrainingRows() const;
   void say(const std::string& line) const;
