@@ -7,7 +7,7 @@
 #include <set>
 
 #include "flagella_identify/calibration.h"
-#include "flagella_identify/identify.h"
+#include "flagella_identify/chi_square.h"
 #include "flagella_identify/model.h"
 #include "series_features.h"
 

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "flagella_identify/chi_square.h"
 #include "flagella_identify/cross_validation.h"
 #include "flagella_identify/diagnosis.h"
 #include "flagella_identify/fit.h"
@@ -113,6 +114,9 @@ struct IdentifyResult {
   std::vector<ModelOutcome> pair_refits;
 };
 
+/// The pipeline; its parts live in src/: identify.cpp (run, in order), training_fits.cpp,
+/// start_values.cpp, held_out_judgement.cpp, identification_folds.cpp, candidate_search.cpp,
+/// pair_rule.cpp, cannot_tell.cpp and verdict_text.cpp.
 class Identification {
  public:
   Identification(MeasuredData data, YAML::Node baseline, std::string baseline_source,
@@ -196,9 +200,6 @@ constexpr double kExplainedShare = 0.9;
 /// A second effect is tried with the best single one only when that one removes at least this
 /// share of the baseline's held-out excess (a weaker first effect cannot mask a second one).
 constexpr double kPairingShare = 0.25;
-
-/// Chi-square critical value at p = 1e-3 for k degrees of freedom (k >= 1).
-double chiSquareCritical(int k);
 
 /// The model the data cannot tell from `chosen` (docs/model.md 7.6): another fitted,
 /// significant outcome of as many effects (result.candidates or result.combinations) that

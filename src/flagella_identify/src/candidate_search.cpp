@@ -1,0 +1,112 @@
+// Every candidate effect fitted alone, then paired with the best one (docs/model.md 7.6).
+#include <algorithm>
+
+#include "identify_internal.h"
+#include "text_format.h"
+
+namespace flagella {
+namespace identify {
+
+void Identification::fitCandidates(IdentifyResult& result) {
+  const unsigned observables = observablesOf(data_);
+  for (const Candidate* c : candidatesNamed(options_.candidates)) {
+    const std::string reason = notIdentifiableReason(*c, observables);
+    if (!reason.empty()) {
+      ModelOutcome skipped;
+      skipped.label = c->name;
+      skipped.effects = {c->name};
+      skipped.note = "not identifiable from these data: " + reason;
+      result.candidates.push_back(skipped);
+      say("candidate " + c->name + ": skipped (" + reason + ")");
+      continue;
+    }
+    say("candidate " + c->name + ": " + c->title);
+    capping_singles_ = true;
+    result.candidates.push_back(fitModelOutcome({c}, result.baseline));
+    capping_singles_ = false;
+    result.total_evaluations += result.candidates.back().evaluations;
+  }
+  // docs/model.md 7.6: a baseline off its map may have dragged the candidates fitted from it off
+  // too: unless one of them leaves a held-out residual within the noise, each again by
+  // continuation.
+  const ModelOutcome& base = result.baseline;
+  const bool explained =
+      std::any_of(result.candidates.begin(), result.candidates.end(),
+                  [](const ModelOutcome& m) { return m.fitted && m.noise_z <= kSignificanceZ; });
+  if (!options_.continuation || data_.series.empty() || base.warnings.empty() || explained) return;
+  say("the baseline ended off its map and no candidate fitted from it leaves a residual within "
+      "the noise: each candidate again by continuation");
+  for (ModelOutcome& m : result.candidates) {
+    if (m.note.rfind("not identifiable", 0) == 0) continue;
+    std::vector<const Candidate*> effects;
+    for (const std::string& name : m.effects) effects.push_back(&candidateByName(name));
+    say("candidate " + m.label + " by continuation");
+    ModelOutcome again = fitByContinuation(effects, base);
+    result.total_evaluations += again.evaluations;
+    if (again.fitted) judge(again, base);
+    m = betterOf(std::move(m), std::move(again));
+  }
+}
+
+void Identification::tryPairs(IdentifyResult& result, std::optional<ModelOutcome>& chosen) {
+  // One effect not enough: add a second one to the best and keep it if it is significant. Only
+  // a first effect that explains a sizeable share can mask a second one; when the best single
+  // effect explains little, a second effect would have shown on its own.
+  bool pairable = chosen && chosen->noise_z > kSignificanceZ && options_.max_effects >= 2;
+  // docs/model.md 7.6: a second effect only once the first is fitted at its best: with time
+  // series, the best single effect is fitted again by continuation first
+  if (pairable && chosen->explained >= kPairingShare && options_.continuation &&
+      !data_.series.empty() && !chosen->continuation) {
+    say("the best single effect (" + chosen->label +
+        ") leaves a significant residual: fitted again by continuation before pairing");
+    std::vector<const Candidate*> effects;
+    for (const std::string& name : chosen->effects) effects.push_back(&candidateByName(name));
+    ModelOutcome again = fitByContinuation(effects, result.baseline);
+    result.total_evaluations += again.evaluations;
+    if (again.fitted) judge(again, result.baseline);
+    if (again.fitted && again.significant) {
+      ModelOutcome kept = betterOf(*chosen, std::move(again));
+      for (ModelOutcome& m : result.candidates)
+        if (m.label == kept.label) m = kept;
+      chosen = kept;
+    }
+    pairable = chosen->noise_z > kSignificanceZ;
+  }
+  if (pairable && chosen->explained < kPairingShare) {
+    say("the best single effect (" + chosen->label +
+        formatted(") explains only %.1f %% of the excess (< %.0f %%); no pairs tried",
+                  100.0 * chosen->explained, 100.0 * kPairingShare));
+  } else if (pairable) {
+    say(formatted("the best single effect explains %.1f %% of the excess and leaves a significant "
+                  "residual; trying pairs with ",
+                  100.0 * chosen->explained) +
+        chosen->label);
+    const ModelOutcome first = *chosen;
+    for (const ModelOutcome& m : result.candidates) {
+      // every other fitted candidate: a second effect can be masked by the first one's larger
+      // discrepancy, so that on its own it does not even lower the held-out error
+      if (!m.fitted || m.label == first.label) continue;
+      std::vector<const Candidate*> pair{&candidateByName(first.effects[0]),
+                                         &candidateByName(m.effects[0])};
+      // docs/model.md 7.6: with cross validation, no model with more parameters than a fold
+      // trains rows (each row is one motor rate)
+      const size_t parameters = first.parameters.size() + pair[1]->variables.size();
+      if (folds_ && static_cast<int>(parameters) > fewestTrainingRows()) {
+        say("  " + first.label + " + " + m.label +
+            formatted(" not tried: %.0f parameters, more than the %.0f rows a fold trains on",
+                      parameters, fewestTrainingRows()));
+        continue;
+      }
+      ModelOutcome combined = fitModelOutcome(pair, first);
+      result.total_evaluations += combined.evaluations;
+      result.combinations.push_back(combined);
+    }
+    if (const ModelOutcome* best_pair = bestSignificant(result.combinations)) {
+      chosen = *best_pair;
+      if (options_.pair_rule) checkPairAgainstItsSingles(result, chosen);
+    }
+  }
+}
+
+}  // namespace identify
+}  // namespace flagella
