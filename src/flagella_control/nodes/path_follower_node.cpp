@@ -32,31 +32,30 @@ std::uint8_t toStatusMode(ControllerMode mode) {
 }  // namespace
 
 PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
-  mode_ = param<std::string>(pnh, "mode", "receding_horizon");
-  if (mode_ != "receding_horizon" && mode_ != "closed_loop" && mode_ != "open_loop")
-    throw std::invalid_argument(
-        "~mode must be 'receding_horizon', 'closed_loop' or 'open_loop', got '" + mode_ + "'");
+  controller_options_.mode = param<std::string>(pnh, "mode", controller_options_.mode);
+  flagella::control::requirePathControllerMode(controller_options_.mode, "~mode");
   world_frame_ = param<std::string>(pnh, "world_frame", "world");
   const std::string calibration_file = fileParam(pnh, "calibration");
   if (calibration_file.empty())
     throw std::invalid_argument("~calibration (a YAML file) is required");
   calibration_ = flagella::control::loadCalibration(calibration_file);
-  gains_.lookahead = param(pnh, "lookahead", gains_.lookahead);
-  gains_.cross_track_integral = param(pnh, "cross_track_integral", gains_.cross_track_integral);
-  gains_.heading_gain = param(pnh, "heading_gain", gains_.heading_gain);
-  gains_.fix_gain = param(pnh, "fix_gain", gains_.fix_gain);
-  gains_.min_pulse = param(pnh, "min_pulse", gains_.min_pulse);
-  gains_.search_window = param(pnh, "search_window", gains_.search_window);
-  gains_.imu_timeout = param(pnh, "imu_timeout", gains_.imu_timeout);
-  gains_.fix_timeout = param(pnh, "fix_timeout", gains_.fix_timeout);
-  gains_.sensor_fault_timeout = param(pnh, "sensor_fault_timeout", gains_.sensor_fault_timeout);
-  gains_.finish_tolerance = param(pnh, "finish_tolerance", gains_.finish_tolerance);
-  gains_.validate();
-  horizon_gains_.horizon = param(pnh, "horizon", horizon_gains_.horizon);
-  horizon_gains_.fallback_distance =
-      param(pnh, "fallback_distance", horizon_gains_.fallback_distance);
-  horizon_gains_.adapt = param(pnh, "adapt", horizon_gains_.adapt);
-  horizon_gains_.validate();
+  flagella::control::PathFollowingGains& gains = controller_options_.gains;
+  gains.lookahead = param(pnh, "lookahead", gains.lookahead);
+  gains.cross_track_integral = param(pnh, "cross_track_integral", gains.cross_track_integral);
+  gains.heading_gain = param(pnh, "heading_gain", gains.heading_gain);
+  gains.fix_gain = param(pnh, "fix_gain", gains.fix_gain);
+  gains.min_pulse = param(pnh, "min_pulse", gains.min_pulse);
+  gains.search_window = param(pnh, "search_window", gains.search_window);
+  gains.imu_timeout = param(pnh, "imu_timeout", gains.imu_timeout);
+  gains.fix_timeout = param(pnh, "fix_timeout", gains.fix_timeout);
+  gains.sensor_fault_timeout = param(pnh, "sensor_fault_timeout", gains.sensor_fault_timeout);
+  gains.finish_tolerance = param(pnh, "finish_tolerance", gains.finish_tolerance);
+  gains.validate();
+  flagella::control::RecedingHorizonGains& horizon = controller_options_.horizon_gains;
+  horizon.horizon = param(pnh, "horizon", horizon.horizon);
+  horizon.fallback_distance = param(pnh, "fallback_distance", horizon.fallback_distance);
+  horizon.adapt = param(pnh, "adapt", horizon.adapt);
+  horizon.validate();
   status_period_ = statusPeriod(pnh);
   exit_when_finished_ = param(pnh, "exit_when_finished", false);
   linger_ = param(pnh, "linger", 1.0);
@@ -79,22 +78,16 @@ PathFollowerNode::PathFollowerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
 }
 
 void PathFollowerNode::build(flagella::control::PathSpec spec) {
-  ROS_INFO("flagella_path_follower: %s, %s", mode_.c_str(), spec.description.c_str());
-  if (mode_ == "open_loop") {
-    controller_ =
-        std::make_unique<flagella::control::ScheduleController>(std::move(spec), calibration_);
-  } else if (mode_ == "receding_horizon") {
-    auto controller = std::make_unique<flagella::control::RecedingHorizonController>(
-        std::move(spec), calibration_, horizon_gains_, gains_);
+  ROS_INFO("flagella_path_follower: %s, %s", controller_options_.mode.c_str(),
+           spec.description.c_str());
+  controller_ =
+      flagella::control::makePathController(std::move(spec), calibration_, controller_options_);
+  if (const auto* horizon =
+          dynamic_cast<const flagella::control::RecedingHorizonController*>(controller_.get()))
     ROS_INFO(
         "flagella_path_follower: planned on the calibrated model: tracking bound max %.1f mm, "
         "RMS %.1f mm",
-        1e3 * controller->bound().best_max.max_error, 1e3 * controller->bound().best_rms.rms_error);
-    controller_ = std::move(controller);
-  } else {
-    controller_ = std::make_unique<flagella::control::PathFollowingController>(
-        std::move(spec), calibration_, gains_);
-  }
+        1e3 * horizon->bound().best_max.max_error, 1e3 * horizon->bound().best_rms.rms_error);
   reference_published_ = false;
 }
 

@@ -1,7 +1,8 @@
 // The path-following controller node: a thin ROS shell around a controller core
-// (PathFollowingController or ScheduleController). It steps the core on every IMU sample with
-// the latest camera fix (used once), publishes the motor command stamped with the IMU stamp,
-// the controller status and the anchored reference path. Time is the IMU stamp only.
+// (RecedingHorizonController, PathFollowingController or ScheduleController, built by
+// path_controller_factory.h from the ~mode and gain parameters). It steps the core on every IMU
+// sample with the latest camera fix (used once), publishes the motor command stamped with the
+// IMU stamp, the controller status and the anchored reference path. Time is the IMU stamp only.
 #pragma once
 
 #include <geometry_msgs/PointStamped.h>
@@ -13,8 +14,7 @@
 #include <string>
 
 #include "controller_node_io.h"
-#include "flagella_control/path_controllers.h"
-#include "flagella_control/receding_horizon_controller.h"
+#include "flagella_control/path_controller_factory.h"
 
 namespace flagella::control::node {
 
@@ -33,10 +33,9 @@ class PathFollowerNode {
   void publishStatus(const ros::Time& stamp, const flagella::control::ControllerOutputs& out);
   void publishReference(const ros::Time& stamp);
 
-  std::string mode_, world_frame_;
+  std::string world_frame_;
   flagella::control::BinaryCalibration calibration_;
-  flagella::control::PathFollowingGains gains_;
-  flagella::control::RecedingHorizonGains horizon_gains_;
+  flagella::control::PathControllerOptions controller_options_;  ///< mode and gains
   std::unique_ptr<flagella::control::PathControllerBase> controller_;
   flagella::control::ControllerInputs inputs_;
   PendingFix fix_;
