@@ -1,9 +1,9 @@
+// ImplicitStepper's Newton solve of an implicit Euler step (docs/model.md 1.10).
 #include "flagella_sim/solver/implicit_stepper.h"
 
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <sstream>
 
 #include "flagella_sim/elastic/bend_twist_energy.h"
 #include "flagella_sim/elastic/stretching_energy.h"
@@ -26,9 +26,6 @@ class NegatingSink : public JacobianSink {
   SparseAssembler& assembler_;
 };
 
-// A dense Jacobian whose reciprocal condition estimate is below this is treated as singular.
-constexpr double kMinDenseReciprocalCondition = 1e-15;
-
 // A stagnated Newton update is accepted only if the residual is within this factor of the
 // tolerance (NewtonOptions::step_tolerance).
 constexpr double kStagnationResidualFactor = 1e3;
@@ -45,8 +42,6 @@ constexpr double kStagnationRatio = 0.5;
 // scaled residual below this factor times the tolerance. Farther out (a motor reversal of the
 // binary-switch robot) a reused Jacobian was measured to stall Newton into the damped retry.
 constexpr double kChordResidualFactor = 100.0;
-// A failed step names a joint folded beyond this turning angle (cos = -0.999, about 177.4 deg).
-const double kFoldedJointAngle = std::acos(-0.999);
 
 }  // namespace
 
@@ -67,13 +62,6 @@ ImplicitStepper::ImplicitStepper(RodNetwork net, std::vector<EffectPtr> effects,
     e->attach(net_);
     dense_ = dense_ || e->hasDenseJacobian();
   }
-}
-
-std::vector<const Effect*> ImplicitStepper::motorSpeedLaws() const {
-  std::vector<const Effect*> laws;
-  for (const EffectPtr& e : effects_)
-    if (e->shapesMotorSpeed()) laws.push_back(e.get());
-  return laws;
 }
 
 Effect* ImplicitStepper::findEffect(const std::string& name) const {
@@ -185,74 +173,63 @@ void ImplicitStepper::buildDenseJacobian(const EffectContext& ctx) {
   addDenseBlocks(ctx, dense_system_);
 }
 
-ImplicitStepper::Factorization ImplicitStepper::factorizeJacobian(bool klu_only) {
-  ProfileScope timer(profile_, &StepProfile::factorization);
-  if (profile_) ++profile_->factorizations;
-  ++factorizations_;
-  if (dense_) {
-    kept_.valid = dense_system_.factorize(kMinDenseReciprocalCondition);
-    kept_.stale = false;
-    kept_.dt = attempt_dt_;
-    kept_.viscosity = attempt_viscosity_;
-    return kept_.valid ? Factorization::kFactored : Factorization::kSingular;
-  }
-  if (assembler_.redirected()) {
-    if (lu_.factorizeInPlace()) return Factorization::kFactored;
-    assembler_.stopRedirect();
-    in_place_allowed_ = false;
-    return Factorization::kNeedsMatrix;
-  }
-  if (!analyzed_ || assembler_.patternChanged()) {
-    lu_.analyze(assembler_.matrix());
-    analyzed_ = true;
-    ++analyses_;
-  }
-  if (!lu_.factorize(assembler_.matrix(), !klu_only)) return Factorization::kSingular;
-  if (lu_.lastWasBlock() && in_place_allowed_ && !any_fixed_) {
-    BlockSparseLu& block = lu_.blockLu();
-    assembler_.redirect(block.storage(), block.storageSize(), block.valueOffsets());
-  }
-  return Factorization::kFactored;
-}
-
-void ImplicitStepper::solveJacobian(const VecX& rhs, VecX& dq) {
-  ProfileScope timer(profile_, &StepProfile::solve);
-  if (profile_) ++profile_->updates;
-  if (dense_)
-    dq = dense_system_.solve(rhs);
-  else
-    lu_.solve(rhs, dq);
-}
-
 void ImplicitStepper::transportInto(const VecX& q, const ReferenceFrames& previous,
                                     ReferenceFrames& frames) const {
   ProfileScope timer(profile_, &StepProfile::frames);
   transportFrames(net_, q, previous, frames);
 }
 
-bool ImplicitStepper::factorAt(const RodState& start, const VecX& q, double dt,
-                               const ReferenceFrames& frames, bool built) {
-  if (!built) evaluate(start, q, dt, frames, true);
-  Factorization factored = factorizeJacobian();
-  if (factored == Factorization::kNeedsMatrix) {
-    // The block LU refused a Jacobian assembled in its storage: assemble it as a matrix
-    // (assembly in place is off now) for KLU.
-    evaluate(start, q, dt, frames, true);
-    factored = factorizeJacobian(/*klu_only=*/true);
-  }
-  return factored == Factorization::kFactored;
-}
-
 ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodState& result,
                                                     double dt, double motor_offset,
                                                     double viscosity, bool damped) {
   Attempt attempt;
+  beginAttempt(dt, motor_offset, viscosity, damped);
+  // The iterate lives in iterate_ and its frames in frames_ (storage reused); an accepted step
+  // swaps the frames in.
+  VecX& q = iterate_;
+  setInitialGuess(start, dt, q);
+  // Modified Newton (NewtonOptions::jacobian_reuse): the first update of every attempt uses a
+  // fresh Jacobian (one from the previous step was measured to contract 5-20x worse: the stiff
+  // head has turned since), later ones reuse the factored one while the residual contracts fast.
+  NewtonProgress progress;
+  for (int iter = 0; iter <= options_.max_iterations; ++iter) {
+    bool built = false;
+    const IterateVerdict verdict = testIterate(start, dt, iter, progress, attempt, built);
+    if (verdict == IterateVerdict::kFailed) return attempt;
+    if (verdict == IterateVerdict::kConverged) {
+      acceptAttempt(start, result, dt, attempt);
+      return attempt;
+    }
+    if (isStagnating(iter, attempt.residual, progress, damped))
+      return attempt.fail("stagnation (residual not halved in two updates)");
+    if (const char* failure =
+            computeUpdate(start, dt, iter, attempt.residual, built, damped, progress))
+      return attempt.fail(failure);
+    const bool round_off = isRoundOffUpdate(update_, attempt.residual);
+    // A round-off-level update needs no line search: the residual cannot descend further.
+    if (damped && !round_off && !backtrackUpdate(start, dt, attempt.residual))
+      return attempt.fail("no descent along the Newton direction");
+    if (progress.last_update_chord) previous_iterate_ = q;
+    q -= update_;
+    if (round_off) {
+      // Round-off-level update with a nearly converged residual: accept (NewtonOptions).
+      transportInto(q, start.frames, frames_);
+      acceptAttempt(start, result, dt, attempt);
+      return attempt;
+    }
+  }
+  return attempt.fail("no convergence within max_iterations");
+}
+
+void ImplicitStepper::beginAttempt(double dt, double motor_offset, double viscosity, bool damped) {
   motor_twist_.tau_bar = motor_tau_bar0_ + motor_offset;
   attempt_viscosity_ = viscosity;
   attempt_dt_ = dt;
   krylov_attempt_ = dense_ && options_.krylov_iterations > 0 && !damped;
+}
+
+void ImplicitStepper::setInitialGuess(const RodState& start, double dt, VecX& q) const {
   const VecX& q0 = start.q;
-  VecX& q = iterate_;
   if (options_.extrapolate_initial_guess)
     q = q0 + dt * start.qdot;
   else
@@ -266,236 +243,106 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
   if (history) q += dt * (start.qdot - predictor_.qdot_start);
   for (int i = 0; i < q.size(); ++i)
     if (net_.fixed_dof[i]) q(i) = q0(i);
-  // The iterate's frames live in frames_ (storage reused); an accepted step swaps them in.
-  ReferenceFrames& frames = frames_;
-  auto failed = [&](const char* reason) {
-    attempt.failure = reason;
-    return attempt;
-  };
-  auto accept = [&]() {
-    attempt.converged = true;
-    predictor_.qdot_start = start.qdot;
-    result.qdot = (q - q0) / dt;
-    predictor_.qdot_end = result.qdot;
-    predictor_.time = start.time + dt;
-    predictor_.dt = dt;
-    predictor_.valid = true;
-    result.q = q;
-    std::swap(result.frames, frames_);
-  };
-  // Modified Newton (NewtonOptions::jacobian_reuse): the first update of every attempt uses a
-  // fresh Jacobian (one from the previous step was measured to contract 5-20x worse: the stiff
-  // head has turned since), later ones reuse the factored one while the residual contracts fast.
-  bool last_update_chord = false;
-  double residual_history[3] = {0.0, 0.0, 0.0};  // of the last three iterates
+}
+
+ImplicitStepper::IterateVerdict ImplicitStepper::testIterate(const RodState& start, double dt,
+                                                             int iter, NewtonProgress& progress,
+                                                             Attempt& attempt, bool& built) {
   // The first pass always builds the Jacobian; later passes first check convergence with the
   // cheap residual-only evaluation and build the Jacobian only if another update needs a fresh
   // one.
-  for (int iter = 0; iter <= options_.max_iterations; ++iter) {
-    transportInto(q, start.frames, frames);
-    bool built = iter == 0;
-    attempt.residual = evaluate(start, q, dt, frames, built);
-    attempt.iterations = iter;
-    if (options_.trace)
-      std::fprintf(stderr, "t=%.4f iter %d residual %.3e%s\n", start.time, iter, attempt.residual,
-                   last_update_chord ? " (chord)" : "");
-    const double previous_residual = residual_history[(iter + 2) % 3];  // of iterate iter - 1
-    if (last_update_chord && !(attempt.residual < previous_residual)) {
-      // The chord update raised the residual: undo it and rebuild the Jacobian there.
-      q = previous_iterate_;
-      transportInto(q, start.frames, frames);
-      attempt.residual = evaluate(start, q, dt, frames, true);
-      built = true;
-    } else {
-      if (!std::isfinite(attempt.residual)) return failed("a non-finite residual");
-      if (attempt.residual < options_.residual_tolerance) {
-        accept();
-        return attempt;
-      }
-      if (iter == options_.max_iterations) return failed("no convergence within max_iterations");
+  VecX& q = iterate_;
+  transportInto(q, start.frames, frames_);
+  built = iter == 0;
+  attempt.residual = evaluate(start, q, dt, frames_, built);
+  attempt.iterations = iter;
+  if (options_.trace)
+    std::fprintf(stderr, "t=%.4f iter %d residual %.3e%s\n", start.time, iter, attempt.residual,
+                 progress.last_update_chord ? " (chord)" : "");
+  if (progress.last_update_chord && !(attempt.residual < progress.residualOf(iter - 1))) {
+    // The chord update raised the residual: undo it and rebuild the Jacobian there.
+    q = previous_iterate_;
+    transportInto(q, start.frames, frames_);
+    attempt.residual = evaluate(start, q, dt, frames_, true);
+    built = true;
+  } else {
+    if (!std::isfinite(attempt.residual)) {
+      attempt.fail("a non-finite residual");
+      return IterateVerdict::kFailed;
     }
-    residual_history[iter % 3] = attempt.residual;
-    // Plain Newton that has stopped converging (a two-cycle) gives up early when the damped
-    // retry is there to take over.
-    if (!damped && options_.damped_retry && iter >= kStagnationCheckStart &&
-        attempt.residual > kStagnationResidualFactor * options_.residual_tolerance &&
-        attempt.residual > kStagnationRatio * residual_history[(iter + 1) % 3])
-      return failed("stagnation (residual not halved in two updates)");
-    VecX& dq = update_;
-    if (krylov_attempt_) {
-      if (!built) evaluate(start, q, dt, frames, true);
-      if (!krylovUpdate(start, q, dt, frames)) return failed("a singular Jacobian");
-      last_update_chord = false;
-    } else {
-      // (Past the first pass a factored Jacobian always exists: a failed factorization returns.)
-      const bool chord = !built && !damped &&
-                         attempt.residual < options_.jacobian_reuse * previous_residual &&
-                         attempt.residual < kChordResidualFactor * options_.residual_tolerance;
-      if (!chord && !factorAt(start, q, dt, frames, built)) return failed("a singular Jacobian");
-      last_update_chord = chord;
-      solveJacobian(residual_, dq);
-    }
-    if (!dq.allFinite()) return failed("a non-finite update");
-    bool round_off;
-    {
-      ProfileScope timer(profile_, &StepProfile::convergence);
-      round_off = stepNorm(dq) < options_.step_tolerance &&
-                  attempt.residual < kStagnationResidualFactor * options_.residual_tolerance;
-    }
-    // A round-off-level update needs no line search: the residual cannot descend further.
-    if (damped && !round_off) {
-      double length = 1.0;
-      for (int k = 0;; ++k) {
-        const VecX trial = q - length * dq;
-        transportInto(trial, start.frames, trial_frames_);
-        const double r = evaluate(start, trial, dt, trial_frames_, false);
-        if (r < (1.0 - kArmijoFraction * length) * attempt.residual) break;
-        if (k == kMaxBacktracks) return failed("no descent along the Newton direction");
-        length *= 0.5;
-      }
-      dq *= length;
-    }
-    if (last_update_chord) previous_iterate_ = q;
-    q -= dq;
-    if (round_off) {
-      // Round-off-level update with a nearly converged residual: accept (NewtonOptions).
-      transportInto(q, start.frames, frames);
-      accept();
-      return attempt;
+    if (attempt.residual < options_.residual_tolerance) return IterateVerdict::kConverged;
+    if (iter == options_.max_iterations) {
+      attempt.fail("no convergence within max_iterations");
+      return IterateVerdict::kFailed;
     }
   }
-  return failed("no convergence within max_iterations");
+  progress.record(iter, attempt.residual);
+  return IterateVerdict::kUpdate;
 }
 
-std::string ImplicitStepper::foldedJointNote(const RodState& state) const {
-  // no step size passes a joint folded back on itself (docs/model.md 1.3)
-  const FoldedJoint joint = mostFoldedJoint(net_, state.frames);
-  if (joint.spring < 0 || joint.angle < kFoldedJointAngle) return "";
-  std::ostringstream note;
-  note << "; the joint at node " << net_.bend_twist_springs[joint.spring].node_c
-       << (joint.spring == net_.parts.motor_spring ? " (the motor joint)" : "") << " is folded to "
-       << joint.angle * 180.0 / M_PI << " deg, where the discrete curvature diverges";
-  return note.str();
+bool ImplicitStepper::isStagnating(int iter, double residual, const NewtonProgress& progress,
+                                   bool damped) const {
+  return !damped && options_.damped_retry && iter >= kStagnationCheckStart &&
+         residual > kStagnationResidualFactor * options_.residual_tolerance &&
+         residual > kStagnationRatio * progress.residualOf(iter - 2);
 }
 
-StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& motor, int depth) {
-  while (static_cast<int>(trial_states_.size()) <= depth) trial_states_.emplace_back();
-  RodState& trial = trial_states_[depth];  // storage reused; solveStep writes q, qdot, frames
-  const double t_next = state.time + dt;
-  // Effect hooks of this (sub)step: viscosity factor (product) and motor speed (chained).
-  double viscosity_factor = 1.0;
-  for (const EffectPtr& e : effects_) viscosity_factor *= e->viscosityFactor(t_next);
-  const double viscosity = medium_.viscosity() * viscosity_factor;
-  const double command = motor.commandAt(t_next);
-  double omega = command;
-  if (motor.needsLoad() && std::isfinite(command))
-    omega = motor.speed(command, motorLoad(state, command, t_next));
-  if (!std::isfinite(omega)) {
-    std::ostringstream msg;
-    msg << "motor " << (std::isfinite(command) ? "speed" : "command") << " is not finite (" << omega
-        << ") at t = " << t_next << " s";
-    throw SolverFailure(msg.str());
+const char* ImplicitStepper::computeUpdate(const RodState& start, double dt, int iter,
+                                           double residual, bool built, bool damped,
+                                           NewtonProgress& progress) {
+  const VecX& q = iterate_;
+  VecX& dq = update_;
+  if (krylov_attempt_) {
+    if (!built) evaluate(start, q, dt, frames_, true);
+    if (!krylovUpdate(start, q, dt, frames_)) return "a singular Jacobian";
+    progress.last_update_chord = false;
+  } else {
+    // (Past the first pass a factored Jacobian always exists: a failed factorization returns.)
+    const bool chord = !built && !damped &&
+                       residual < options_.jacobian_reuse * progress.residualOf(iter - 1) &&
+                       residual < kChordResidualFactor * options_.residual_tolerance;
+    if (!chord && !factorAt(start, q, dt, frames_, built)) return "a singular Jacobian";
+    progress.last_update_chord = chord;
+    solveJacobian(residual_, dq);
   }
-  const StepStart start{net_, state, dt, medium_, viscosity};
-  {
-    ProfileScope timer(profile_, &StepProfile::effects);
-    for (const EffectPtr& e : effects_) e->beginStep(start);
-  }
-  // docs/model.md 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
-  const double offset = state.motor_twist_offset + omega * dt;
-  Attempt a = solveStep(state, trial, dt, offset, viscosity, false);
-  int damped_retries = 0;
-  if (!a.converged && options_.damped_retry) {
-    const Attempt plain = a;
-    a = solveStep(state, trial, dt, offset, viscosity, true);
-    a.iterations += plain.iterations;
-    damped_retries = a.converged ? 1 : 0;
-  }
-  if (a.converged) {
-    trial.time = t_next;
-    trial.motor_twist_offset = offset;
-    {
-      ProfileScope timer(profile_, &StepProfile::effects);
-      for (const EffectPtr& e : effects_) e->acceptStep(net_, state, trial);
-    }
-    motor.recordApplied(command, omega);
-    viscosity_factor_ = viscosity_factor;
-    std::swap(state, trial);  // trial keeps the old state's storage for the next step
-    return {a.iterations, 1, a.residual, damped_retries};
-  }
-  if (depth >= options_.max_subdivision_depth) {
-    std::ostringstream msg;
-    msg << "Newton did not converge at t = " << state.time << " s with dt = " << dt << " s after "
-        << depth << " subdivisions (scaled residual " << a.residual << ", tolerance "
-        << options_.residual_tolerance << "; the last attempt ended on " << a.failure << ")"
-        << foldedJointNote(state);
-    throw SolverFailure(msg.str());
-  }
-  RodState half = state;
-  StepReport first = stepRecursive(half, 0.5 * dt, motor, depth + 1);
-  StepReport second = stepRecursive(half, 0.5 * dt, motor, depth + 1);
-  state = std::move(half);
-  return {a.iterations + first.newton_iterations + second.newton_iterations,
-          first.substeps + second.substeps, second.residual,
-          first.damped_retries + second.damped_retries};
+  if (!dq.allFinite()) return "a non-finite update";
+  return nullptr;
 }
 
-StepReport ImplicitStepper::step(RodState& state, double dt, Motor& motor) {
-  if (!(dt > 0.0) || !std::isfinite(dt)) {
-    std::ostringstream msg;
-    msg << "time step must be > 0 and finite, got " << dt;
-    throw SolverFailure(msg.str());
-  }
-  // What a failed step must put back besides `state`: sub-steps accepted before the failure
-  // have already advanced the effects' internal state and the motor's record.
-  std::vector<std::vector<double>>& effect_states = saved_effect_states_;
-  effect_states.resize(effects_.size());
-  for (size_t i = 0; i < effects_.size(); ++i) effect_states[i] = effects_[i]->internalState();
-  const double viscosity_factor = viscosity_factor_;
-  const Motor::Record motor_record = motor.record();
-  auto restore = [&] {
-    for (size_t i = 0; i < effects_.size(); ++i) effects_[i]->setInternalState(effect_states[i]);
-    viscosity_factor_ = viscosity_factor;
-    motor.restore(motor_record);
-  };
-  ProfileScope timer(profile_, &StepProfile::total);
-  if (profile_) ++profile_->steps;
-  try {
-    return stepRecursive(state, dt, motor, 0);  // assigns state only when the whole step succeeded
-  } catch (const SolverFailure& e) {
-    restore();
-    std::ostringstream msg;
-    msg << "step from t = " << state.time << " s with dt = " << dt << " s failed: " << e.what();
-    throw SolverFailure(msg.str());
-  } catch (...) {  // e.g. an effect's parameters out of their domain at this time
-    restore();
-    throw;
-  }
+bool ImplicitStepper::isRoundOffUpdate(const VecX& dq, double residual) const {
+  ProfileScope timer(profile_, &StepProfile::convergence);
+  return stepNorm(dq) < options_.step_tolerance &&
+         residual < kStagnationResidualFactor * options_.residual_tolerance;
 }
 
-StepReport ImplicitStepper::step(RodState& state, double dt, const MotorCommand& schedule) {
-  Motor motor(std::shared_ptr<const MotorCommand>(&schedule, [](const MotorCommand*) {}));
-  motor.setSpeedLaws(motorSpeedLaws());
-  return step(state, dt, motor);
+bool ImplicitStepper::backtrackUpdate(const RodState& start, double dt, double residual) {
+  const VecX& q = iterate_;
+  VecX& dq = update_;
+  double length = 1.0;
+  for (int k = 0;; ++k) {
+    const VecX trial = q - length * dq;
+    transportInto(trial, start.frames, trial_frames_);
+    const double r = evaluate(start, trial, dt, trial_frames_, false);
+    if (r < (1.0 - kArmijoFraction * length) * residual) break;
+    if (k == kMaxBacktracks) return false;
+    length *= 0.5;
+  }
+  dq *= length;
+  return true;
 }
 
-MotorLoad ImplicitStepper::motorLoad(const RodState& state, double omega_cmd,
-                                     double time_next) const {
-  MotorLoad load;
-  load.time = time_next;
-  const int index = net_.parts.motor_spring;
-  if (index < 0) return load;
-  // natural twist at t_k
-  const BendTwistSpring spring =
-      drivenSpring(net_, {index, motor_tau_bar0_ + state.motor_twist_offset});
-  const SpringEnergyTerms terms =
-      bendTwistTerms(springGeometry(net_, spring, state.q, state.frames, index), spring, false);
-  const SpringDofMap map = springDofMap(net_, spring);
-  const int head_theta = net_.thetaIndex(net_.parts.head_edge);
-  for (int a = 9; a < 11; ++a)  // the spring's local twist DOFs (docs/model.md 1.6)
-    if (map.index[a] == head_theta) load.head_moment -= map.sign[a] * terms.gradient(a);
-  load.torque = (omega_cmd >= 0.0 ? -1.0 : 1.0) * load.head_moment;  // along the command
-  return load;
+void ImplicitStepper::acceptAttempt(const RodState& start, RodState& result, double dt,
+                                    Attempt& attempt) {
+  const VecX& q = iterate_;
+  attempt.converged = true;
+  predictor_.qdot_start = start.qdot;
+  result.qdot = (q - start.q) / dt;
+  predictor_.qdot_end = result.qdot;
+  predictor_.time = start.time + dt;
+  predictor_.dt = dt;
+  predictor_.valid = true;
+  result.q = q;
+  std::swap(result.frames, frames_);
 }
 
 }  // namespace flagella

@@ -89,19 +89,81 @@ class ImplicitStepper {
     bool converged = false;
     int iterations = 0;
     double residual = 0.0;
-    const char* failure = "";  ///< why an attempt that did not converge ended
+    const char* failure = "";     ///< why an attempt that did not converge ended
+    bool damped_retried = false;  ///< this is the damped retry of a failed plain attempt
+    Attempt& fail(const char* reason) {
+      failure = reason;
+      return *this;
+    }
   };
+  /// What the Newton iteration of an attempt carries from one iterate to the next.
+  struct NewtonProgress {
+    /// The last update reused the factored Jacobian (NewtonOptions::jacobian_reuse).
+    bool last_update_chord = false;
+    double residuals[3] = {0.0, 0.0, 0.0};  ///< scaled residuals of the last three iterates
+    /// Of iterate `iter` (one of the last three: iter >= current iterate - 2).
+    double residualOf(int iter) const { return residuals[(iter + 3) % 3]; }
+    void record(int iter, double residual) { residuals[iter % 3] = residual; }
+  };
+  enum class IterateVerdict { kConverged, kFailed, kUpdate };
+  /// What drives a (sub)step ending at t_next: the effects' viscosity and the motor's speed.
+  struct SubstepDrive {
+    double viscosity_factor = 1.0;  ///< product of the effects' factors
+    double viscosity = 0.0;         ///< [Pa s]
+    double command = 0.0;           ///< the motor's command [rad/s]
+    double omega = 0.0;             ///< the motor's speed after its torque-speed laws [rad/s]
+  };
+
   /// One Newton solve of the step; `damped`: backtrack each update until the scaled residual
   /// decreases (Armijo), and give up if no step length below 1 decreases it.
   /// The step from `start`; a converged attempt writes q, qdot and frames of `result` (nothing
   /// else), a failed one leaves it as it was.
   Attempt solveStep(const RodState& start, RodState& result, double dt, double motor_offset,
                     double viscosity, bool damped);
+  /// Sets what evaluate() uses for this attempt: motor twist, viscosity, dt, Newton-Krylov.
+  void beginAttempt(double dt, double motor_offset, double viscosity, bool damped);
+  /// Writes the initial Newton iterate of the step from `start` into q (docs/model.md 1.10).
+  void setInitialGuess(const RodState& start, double dt, VecX& q) const;
+  /// Evaluates iterate `iter` at iterate_ (undoing a chord update that raised the residual) and
+  /// tests it: converged, failed (attempt.failure says why) or in need of an update. `built`:
+  /// the Jacobian at iterate_ was built by that evaluation.
+  IterateVerdict testIterate(const RodState& start, double dt, int iter, NewtonProgress& progress,
+                             Attempt& attempt, bool& built);
+  /// Plain Newton that has stopped converging (a two-cycle), with the damped retry to take over.
+  bool isStagnating(int iter, double residual, const NewtonProgress& progress, bool damped) const;
+  /// The Newton update at iterate_ into update_ (fresh, chord or Newton-Krylov); null, or why
+  /// the attempt fails.
+  const char* computeUpdate(const RodState& start, double dt, int iter, double residual, bool built,
+                            bool damped, NewtonProgress& progress);
+  /// A round-off-level update with a nearly converged residual (NewtonOptions::step_tolerance).
+  bool isRoundOffUpdate(const VecX& dq, double residual) const;
+  /// Damped retry: shortens update_ until the scaled residual at iterate_ - update_ descends
+  /// (Armijo); false if no step length does.
+  bool backtrackUpdate(const RodState& start, double dt, double residual);
+  /// A converged attempt: writes q, qdot and frames of `result`, and the predictor's history.
+  void acceptAttempt(const RodState& start, RodState& result, double dt, Attempt& attempt);
   /// Fills residual_ (and the Jacobian in assembler_ if asked) at iterate q; returns the
   /// scaled residual (infinity if anything is not finite).
   double evaluate(const RodState& start, const VecX& q, double dt, const ReferenceFrames& frames,
                   bool with_jacobian);
+  /// A (sub)step at subdivision depth `depth`: the plain attempt, the damped retry, then two
+  /// half steps; assigns state only when it succeeded.
   StepReport stepRecursive(RodState& state, double dt, Motor& motor, int depth);
+  /// The viscosity and motor speed of the (sub)step from `state` to t_next; throws SolverFailure
+  /// when the motor's command or speed is not finite.
+  SubstepDrive substepDrive(const RodState& state, double t_next, Motor& motor) const;
+  /// The plain attempt and, if it fails, the damped retry (NewtonOptions::damped_retry).
+  Attempt solveWithDampedRetry(const RodState& start, RodState& result, double dt,
+                               double motor_offset, double viscosity);
+  /// An accepted (sub)step: the effects' and the motor's records; `trial` becomes `state`.
+  void acceptSubstep(RodState& state, RodState& trial, double t_next, double motor_offset,
+                     const SubstepDrive& drive, Motor& motor);
+  /// The step from `state` as two half steps one level deeper (`failed_iterations`: spent on the
+  /// failed attempts at this level).
+  StepReport subdivide(RodState& state, double dt, Motor& motor, int depth, int failed_iterations);
+  /// Why a (sub)step at the deepest subdivision failed, for SolverFailure.
+  std::string nonConvergenceMessage(const RodState& state, double dt, int depth,
+                                    const Attempt& attempt) const;
   /// "; the joint at node N ... is folded to X deg ..." when a bending spring of `state` is
   /// folded nearly back on itself (the usual cause of a step no subdivision passes), else "".
   std::string foldedJointNote(const RodState& state) const;
