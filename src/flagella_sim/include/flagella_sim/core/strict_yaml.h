@@ -9,7 +9,7 @@
 
 #include <string>
 
-#include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/core/config_error.h"
 
 namespace flagella {
 
