@@ -1,4 +1,4 @@
-// flagella_run: headless runner of the rod-network simulator (run, sweep, beam, params).
+// flagella_run: headless runner of the rod-network simulator (run, sweep, beam, params, effects).
 #include <CLI/CLI.hpp>
 #include <iomanip>
 #include <iostream>
