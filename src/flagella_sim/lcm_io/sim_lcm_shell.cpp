@@ -11,9 +11,7 @@ SimLcmShell::SimLcmShell(lcm::LCM& lcm, SimSession& session, const SimLcmOptions
       session_(session),
       options_(options),
       channels_(LcmChannels::withPrefix(options.channel_prefix)),
-      state_schedule_(options.state_rate),
-      imu_schedule_(session.options().imu.rate),
-      camera_schedule_(session.options().camera.rate) {
+      schedule_(OutputRates::forSession(session.options(), options.state_rate)) {
   lcm_.subscribe(channels_.motor_command, &SimLcmShell::onMotorCommand, this);
   lcm_.subscribe(channels_.slider_command, &SimLcmShell::onSliderCommand, this);
 }
@@ -31,8 +29,8 @@ void SimLcmShell::onSliderCommand(const lcm::ReceiveBuffer*, const std::string&,
 }
 
 void SimLcmShell::publishDue(std::map<std::string, long>& published, bool force) {
-  const double t = session_.time();
-  if (state_schedule_.due(t) || force) {
+  const DueOutputs due = schedule_.due(session_.time(), force);
+  if (due.rod_state) {
     const RodSnapshot snapshot = session_.snapshot();
     if (snapshot.allFinite()) {
       const flagella_lcm::rod_state_t msg = toRodStateMessage(snapshot, options_.world_frame);
@@ -41,9 +39,8 @@ void SimLcmShell::publishDue(std::map<std::string, long>& published, bool force)
     }
   }
   // The camera fix before the IMU sample of the same instant, so the controller step on that
-  // sample already has it. Rate 0: off; none inside the dropout window.
-  if (session_.options().camera.enabled() && (camera_schedule_.due(t) || force) &&
-      session_.cameraAvailable()) {
+  // sample already has it. Rate 0: off (never due); none inside the dropout window.
+  if (due.camera_fix && session_.cameraAvailable()) {
     const CameraFix fix = session_.measureCamera();
     if (fix.position.allFinite()) {
       const flagella_lcm::point_stamped_t msg = toCameraFixMessage(fix, options_.world_frame);
@@ -51,7 +48,7 @@ void SimLcmShell::publishDue(std::map<std::string, long>& published, bool force)
       ++published[channels_.camera_fix];
     }
   }
-  if (imu_schedule_.due(t) || force) {
+  if (due.imu) {
     const flagella_lcm::imu_t msg = toImuMessage(session_.measureImu(), options_.imu_frame);
     lcm_.publish(channels_.imu, &msg);
     ++published[channels_.imu];

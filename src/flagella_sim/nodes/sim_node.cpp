@@ -85,21 +85,19 @@ void sleepWall(double seconds) { ros::WallDuration(seconds).sleep(); }
 }  // namespace
 
 SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
-    : private_nh_(pnh),
-      options_(nodeOptionsFromParams(nh, pnh)),
-      state_schedule_(options_.state_rate),
-      imu_schedule_(0.0),  // set below from the session options, which hold the IMU rate
-      marker_schedule_(options_.marker_rate),
-      path_schedule_(options_.path_rate),
-      diagnostics_schedule_(options_.diagnostics_rate),
-      camera_schedule_(0.0) {
+    : private_nh_(pnh), options_(nodeOptionsFromParams(nh, pnh)) {
   std::string overrides;
   pnh.param<std::string>("overrides", overrides, "");
   const flagella::SimulationConfig config =
       flagella::loadSimulationConfig(options_.config_path, splitOverrides(overrides));
   session_ = std::make_unique<flagella::SimSession>(config, sessionOptionsFromParams(pnh));
-  imu_schedule_ = flagella::RateSchedule(session_->options().imu.rate);
-  camera_schedule_ = flagella::RateSchedule(session_->options().camera.rate);  // 0: never asked
+  // The session options hold the IMU and camera rates (camera rate 0: no camera, never due).
+  flagella::OutputRates rates =
+      flagella::OutputRates::forSession(session_->options(), options_.state_rate);
+  rates.markers = options_.marker_rate;
+  rates.path = options_.path_rate;
+  rates.diagnostics = options_.diagnostics_rate;
+  schedule_ = flagella::OutputSchedule(rates);
   status_name_ = options_.tf_prefix + ": flagella_sim";
 
   if (options_.publish_clock)
@@ -194,9 +192,7 @@ void SimNode::onClock(const rosgraph_msgs::Clock& msg) { followed_clock_ = msg.c
 void SimNode::restartOutputs() {
   failsafe_logged_ = false;
   path_.poses.clear();
-  for (auto* s :
-       {&state_schedule_, &imu_schedule_, &marker_schedule_, &path_schedule_, &camera_schedule_})
-    s->restart();
+  schedule_.restart();
   pace_wall_start_ = ros::WallTime::now();
   pace_sim_start_ = session_->time();
   was_halted_ = false;
@@ -379,23 +375,18 @@ bool SimNode::readyToStep() {
 }
 
 void SimNode::publishOutputs(bool force) {
-  const double t = session_->time();
   const ros::Time now = stamp();
-  const bool state_due = state_schedule_.due(t) || force;
-  const bool marker_due = marker_schedule_.due(t) || force;
-  const bool path_due = path_schedule_.due(t) || force;
-  const bool imu_due = imu_schedule_.due(t) || force;
-  const bool camera_due = camera_pub_ && (camera_schedule_.due(t) || force);
-  if (!(state_due || marker_due || path_due || imu_due || camera_due)) return;
+  const flagella::DueOutputs due = schedule_.due(session_->time(), force);
+  if (!due.any()) return;
   flagella::RodSnapshot snapshot;
-  if (state_due || marker_due || path_due) {
+  if (due.needsSnapshot()) {
     snapshot = session_->snapshot();
     if (!snapshot.allFinite()) {
       ROS_ERROR("flagella_sim: non-finite state at t = %.6f s; not published", clockTime());
       return;
     }
   }
-  if (state_due) {
+  if (due.rod_state) {
     flagella_msgs::RodState msg =
         flagella_msgs::toRos(flagella::toRodStateMessage(snapshot, options_.world_frame));
     msg.header.stamp = now;
@@ -405,9 +396,9 @@ void SimNode::publishOutputs(bool force) {
     tf.transforms = rodTransforms(snapshot, now, options_.tf_prefix);
     publish(tf_pub_, tf);
   }
-  if (marker_due)
+  if (due.markers)
     publish(marker_pub_, rodMarkers(snapshot, now, options_.world_frame, options_.markers));
-  if (path_due) {
+  if (due.path) {
     path_.poses.push_back(headPose(snapshot, now, options_.world_frame));
     if (static_cast<int>(path_.poses.size()) > options_.path_max_poses)
       path_.poses.erase(path_.poses.begin());
@@ -416,7 +407,7 @@ void SimNode::publishOutputs(bool force) {
   }
   // The camera fix before the IMU sample of the same instant: a controller stepping on IMU
   // samples can use the fix at once.
-  if (camera_due && session_->cameraAvailable()) {
+  if (due.camera_fix && session_->cameraAvailable()) {
     const flagella::CameraFix fix = session_->measureCamera();
     if (fix.position.allFinite()) {
       geometry_msgs::PointStamped msg =
@@ -425,7 +416,7 @@ void SimNode::publishOutputs(bool force) {
       publish(camera_pub_, msg);
     }
   }
-  if (imu_due) {
+  if (due.imu) {
     const flagella::ImuSample imu = session_->measureImu();
     if (imu.orientation.coeffs().allFinite() && imu.angular_velocity.allFinite() &&
         imu.linear_acceleration.allFinite()) {
@@ -533,7 +524,7 @@ int SimNode::run() {
     }
     publishOutputs(false);
     publishTime();
-    if (diagnostics_schedule_.due(session_->time())) publishDiagnostics();
+    if (schedule_.diagnosticsDue(session_->time())) publishDiagnostics();
     logProgress();
   }
   publishDiagnostics();

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "flagella_sim/runtime/log_throttle.h"
-#include "flagella_sim/runtime/rate_schedule.h"
+#include "flagella_sim/runtime/output_schedule.h"
 #include "flagella_sim/runtime/sim_session.h"
 #include "ros_visuals.h"
 
@@ -113,8 +113,8 @@ class SimNode {
   bool waiting_for_followers_ = false;
   ros::ServiceServer reset_srv_, pause_srv_, reconfigure_srv_;
 
-  flagella::RateSchedule state_schedule_, imu_schedule_, marker_schedule_, path_schedule_,
-      diagnostics_schedule_, camera_schedule_;
+  /// What is due when; the IMU and camera rates are the first session's (kept at reconfigure).
+  flagella::OutputSchedule schedule_;
   nav_msgs::Path path_;
   std::map<std::string, long> published_;  ///< messages published per topic
   double time_offset_ = 0.0;  ///< simulated time before the last reset (the clock never jumps back)

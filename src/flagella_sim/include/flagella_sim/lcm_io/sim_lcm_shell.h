@@ -10,7 +10,7 @@
 #include <string>
 
 #include "flagella_sim/lcm_io/lcm_messages.h"
-#include "flagella_sim/runtime/rate_schedule.h"
+#include "flagella_sim/runtime/output_schedule.h"
 #include "flagella_sim/runtime/sim_session.h"
 
 namespace flagella {
@@ -41,7 +41,7 @@ class SimLcmShell {
   SimSession& session_;
   SimLcmOptions options_;
   LcmChannels channels_;
-  RateSchedule state_schedule_, imu_schedule_, camera_schedule_;
+  OutputSchedule schedule_;
   long motor_received_ = 0, slider_received_ = 0;
 };
 
