@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "csv.h"
+#include "data_io_names.h"
 #include "flagella_identify/data_io.h"
 
 namespace flagella {
@@ -17,8 +18,6 @@ class Metadata;
 
 /// Fewest samples a time series may have (reading and writing).
 constexpr int kMinSamples = 3;
-
-bool contains(const std::vector<std::string>& names, const std::string& name);
 
 // ---------------------------------------------------------------- columns and overrides
 
@@ -32,10 +31,6 @@ struct MeasuredColumn {
   double max;
   const char* unit;
 };
-
-/// Longest user text a message quotes whole where it is a list or a path (names and values are
-/// cut at abbreviated()'s 60 characters).
-constexpr size_t kMaxListedText = 300;
 
 /// Plausible ranges of measured and commanded values, in file units (README, measured data): far
 /// beyond any palm-sized robot, so they only catch values that cannot be measurements (1e308, a
@@ -56,9 +51,6 @@ std::vector<std::string> measuredColumnNames();
 /// The measured column whose per-row uncertainty `column` is ("sigma_v_mm_s" -> v_mm_s), or
 /// nullptr.
 const MeasuredColumn* sigmaColumnOf(const std::string& column);
-
-/// Empty if `name` is a valid override name "section.field[.more]", else what is wrong.
-std::string overrideNameProblem(const std::string& name);
 
 // ---------------------------------------------------------------- CSV header and cell checks
 

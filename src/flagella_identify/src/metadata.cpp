@@ -6,7 +6,9 @@
 #include <optional>
 #include <utility>
 
-#include "data_io_internal.h"
+#include "csv.h"
+#include "data_io_names.h"
+#include "flagella_identify/data_error.h"
 #include "flagella_sim/core/strict_yaml.h"
 #include "flagella_sim/core/text_lists.h"
 #include "text_format.h"

@@ -59,7 +59,7 @@ std::vector<std::pair<size_t, size_t>> stretches(const TimeSeries& s, double t0,
 }  // namespace
 
 void appendFeatureResiduals(const TimeSeries& s, int source, double t0, double t1,
-                            const Evaluator::SeriesTrace& trace, const Vec3& up, Evaluation& out) {
+                            const SeriesTrace& trace, const Vec3& up, Evaluation& out) {
   // docs/model.md 7.6: the horizontal plane (e1, e2) normal to the world vertical
   const Vec3 u = up.normalized();
   const Vec3 e1 = (std::abs(u.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(u).normalized();

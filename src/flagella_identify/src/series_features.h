@@ -5,7 +5,7 @@
 // model circles at another rate, so a fit on them does not run to its bounds.
 #pragma once
 
-#include "flagella_identify/evaluation.h"
+#include "flagella_identify/residuals.h"
 
 namespace flagella {
 namespace identify {
@@ -21,7 +21,7 @@ constexpr double kFeatureMinStretch = 15.0;
 /// the samples of `s` (index `source`) in [t0, t1) against the simulated `trace`, whose
 /// horizontal plane is normal to `up`.
 void appendFeatureResiduals(const TimeSeries& s, int source, double t0, double t1,
-                            const Evaluator::SeriesTrace& trace, const Vec3& up, Evaluation& out);
+                            const SeriesTrace& trace, const Vec3& up, Evaluation& out);
 
 }  // namespace identify
 }  // namespace flagella

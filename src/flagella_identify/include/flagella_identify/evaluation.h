@@ -8,6 +8,7 @@
 
 #include "flagella_identify/data_io.h"
 #include "flagella_identify/model.h"
+#include "flagella_identify/residuals.h"
 
 namespace flagella {
 namespace identify {
@@ -29,26 +30,6 @@ constexpr double kThresholdTolerance = 0.005;
 /// Held-out every `stride`-th row of each table in order of |omega_T| (so the held-out rows
 /// span the speed range), and the last `held_out_fraction` of each time series.
 Split makeSplit(const MeasuredData& data, int stride = 3, double held_out_fraction = 0.4);
-
-/// Where one residual comes from.
-struct ResidualPoint {
-  std::string output;  ///< v, omega_h, omega_t, omega_yr, R_yr | x, y, z | axis_x.. | head_turns,
-                       ///< tail_turns
-  bool from_series = false;
-  int source = 0;             ///< table or series index
-  int row = 0;                ///< table row index, or sample index in the series
-  double omega_T = 0.0;       ///< commanded motor speed there [rad/s]
-  double session_time = 0.0;  ///< time in the session [s] (NaN if unknown)
-  double run_time = 0.0;      ///< time in the run [s] (series), 0 for tables
-  double data = 0.0, model = 0.0, sigma = 1.0;
-  double z() const { return (model - data) / sigma; }
-};
-
-struct Evaluation {
-  bool ok = true;
-  std::string failure;  ///< why the simulation failed (Newton, config), if !ok
-  std::vector<ResidualPoint> points;
-};
 
 struct EvaluatorOptions {
   int jobs = 1;                    ///< simulations run in parallel
@@ -73,13 +54,7 @@ class Evaluator {
   const Split& split() const { return split_; }
   const EvaluatorOptions& options() const { return options_; }
 
-  /// Simulated series (every sample time) for plotting: time, head position, axis, turns.
-  struct SeriesTrace {
-    std::vector<double> t;
-    std::vector<Vec3> position, axis;
-    std::vector<double> head_turns, tail_turns;
-    Vec3 up = Vec3::UnitZ();  ///< the model's world vertical
-  };
+  using SeriesTrace = identify::SeriesTrace;
   SeriesTrace traceSeries(const Model& model, const std::vector<double>& values, int series,
                           double t_end = 1e300) const;
 
