@@ -36,12 +36,17 @@ void scoreHeldOut(ModelOutcome& out, const ModelOutcome& reference, double base_
 
 double selectionScore(const ModelOutcome& m) { return m.held_out_chi_square + m.penalty; }
 
-const ModelOutcome* bestSignificant(const std::vector<ModelOutcome>& outcomes) {
+const ModelOutcome* bestFitted(const std::vector<ModelOutcome>& outcomes, bool significant_only) {
   const ModelOutcome* best = nullptr;
   for (const ModelOutcome& m : outcomes)
-    if (m.fitted && m.significant && (!best || selectionScore(m) < selectionScore(*best)))
+    if (m.fitted && (m.significant || !significant_only) &&
+        (!best || selectionScore(m) < selectionScore(*best)))
       best = &m;
   return best;
+}
+
+const ModelOutcome* bestSignificant(const std::vector<ModelOutcome>& outcomes) {
+  return bestFitted(outcomes, true);
 }
 
 void Identification::judge(ModelOutcome& out, const ModelOutcome& reference) {

@@ -30,7 +30,10 @@ StartChoice bestStartValues(const Evaluator& evaluator, const Model& model,
 /// Selection score: held-out chi^2 plus the parsimony penalty.
 double selectionScore(const ModelOutcome& m);
 
-/// The fitted, significant outcome with the lowest score; nullptr if there is none.
+/// The fitted outcome (with significant_only, the fitted and significant one) with the lowest
+/// score; nullptr if there is none.
+const ModelOutcome* bestFitted(const std::vector<ModelOutcome>& outcomes, bool significant_only);
+/// bestFitted(outcomes, true).
 const ModelOutcome* bestSignificant(const std::vector<ModelOutcome>& outcomes);
 
 // ---- the verdict in words (verdict_text.cpp) ----

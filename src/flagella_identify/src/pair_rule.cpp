@@ -29,14 +29,6 @@ const ModelOutcome* outcomeLabelled(const std::vector<ModelOutcome>& outcomes,
   return nullptr;
 }
 
-/// The fitted outcome of lowest selection score; nullptr if none is fitted.
-const ModelOutcome* bestFitted(const std::vector<ModelOutcome>& outcomes) {
-  const ModelOutcome* best = nullptr;
-  for (const ModelOutcome& m : outcomes)
-    if (m.fitted && (!best || selectionScore(m) < selectionScore(*best))) best = &m;
-  return best;
-}
-
 /// "dc_motor held-out chi^2 14.6 (first fit 2781)" for each refit, joined by commas.
 std::string refitFigures(const std::vector<ModelOutcome>& refits,
                          const std::vector<ModelOutcome>& candidates) {
@@ -100,7 +92,7 @@ void Identification::checkPairAgainstItsSingles(IdentifyResult& result,
   for (size_t member = 0; member < pair.effects.size(); ++member)
     result.pair_refits.push_back(refitAlone(result, pair, member));
   const std::string figures = refitFigures(result.pair_refits, result.candidates);
-  const ModelOutcome* single = bestFitted(result.pair_refits);
+  const ModelOutcome* single = bestFitted(result.pair_refits, false);
   if (!single) {
     result.pair_check = "neither effect alone could be fitted again (" + figures +
                         "); the pair stands on fits that may be short of their optimum";
