@@ -3,7 +3,8 @@
 // (RSS matrix rebuilt and Jacobian factored at every step: effects.rss.reuse_tolerance = 0,
 // solver.krylov_iterations = 0), a per-part breakdown of one step's cost, the growth of the cost
 // with node count, and the accuracy of speed and head rate (against the exact solver and against
-// dt = 1e-3 s). Prints figures; asserts nothing. Usage: flagella_bench_helical [CONFIG_DIR]
+// dt = 1e-3 s), and the per-step profile of each real-time case. Prints figures; asserts nothing.
+// Usage: flagella_bench_helical [CONFIG_DIR]
 // [--quick]
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -158,6 +159,33 @@ void breakdown(const SimulationConfig& config) {
   std::printf("  whole step (median)       %9.1f us\n", 1e6 * step);
 }
 
+// Per-step cost of each part (StepProfile) over `steps` steps of a running simulation.
+void printStepParts(Simulation& sim, long steps) {
+  StepProfile profile;
+  const long reused_before = [&] {
+    const auto* rss = dynamic_cast<const RssHydrodynamics*>(sim.stepper().findEffect("rss"));
+    return rss ? rss->reusedSteps() : 0L;
+  }();
+  sim.setProfile(&profile);
+  for (long k = 0; k < steps; ++k) sim.step();
+  sim.setProfile(nullptr);
+  const auto* rss = dynamic_cast<const RssHydrodynamics*>(sim.stepper().findEffect("rss"));
+  const double n = double(steps), us = 1e6 / n;
+  std::printf(
+      "    per step: %.2f Jacobians, %.2f residuals, %.2f factorisations, %.2f updates, %.2f GMRES "
+      "products, RSS reused on %.0f %%\n",
+      profile.jacobians / n, profile.residuals / n, profile.factorizations / n, profile.updates / n,
+      profile.krylov_iterations / n,
+      rss ? 100.0 * double(rss->reusedSteps() - reused_before) / n : 0.0);
+  std::printf(
+      "    us per step: frames %.0f, elastic %.0f, effects %.0f, assembly %.0f, factorisation "
+      "%.0f, "
+      "solve %.0f, convergence %.0f, other %.0f; total %.0f\n",
+      us * profile.frames, us * profile.elastic, us * profile.effects, us * profile.assembly,
+      us * profile.factorization, us * profile.solve, us * profile.convergence,
+      us * profile.other(), us * profile.total);
+}
+
 struct Swim {
   double speed_mm_s, omega_h_rpm, seconds_per_step;
 };
@@ -187,7 +215,7 @@ int run(const std::string& config_dir, bool quick) {
   std::printf(
       "\nreal-time factor at dt = 1e-2 s (3.5 pitches, after the ramp), shipped solver and "
       "exact solver:\n");
-  for (const char* rpm : {"10", "150"}) {
+  for (const char* rpm : {"10", "30", "150"}) {
     for (bool exact : {false, true}) {
       const std::vector<std::string> ov{std::string("motor.omega_rpm=") + rpm};
       const SimulationConfig c = loadSimulationConfig(robot, exact ? exactSolver(ov) : ov);
@@ -195,8 +223,9 @@ int run(const std::string& config_dir, bool quick) {
       const long steps = quick ? 100 : 500;
       const double per_step = secondsPerStep(sim, stepsPastRamp(c), steps);
       std::printf("  %3s rpm%s, %s: %.1f us/step, %.2fx real time\n", rpm,
-                  std::string(rpm) == "10" ? " (below the threshold)" : " (buckled)",
+                  std::string(rpm) == "150" ? " (buckled)" : " (below the threshold)",
                   exact ? "exact solver  " : "shipped solver", 1e6 * per_step, c.dt / per_step);
+      printStepParts(sim, quick ? 50 : 200);
     }
   }
 

@@ -1,7 +1,10 @@
 // The dense LU (LAPACK) used for RSS and dense Newton systems: solves and inverts non-symmetric
 // matrices (residual checks), refuses singular or non-finite ones. The dense Newton system with an
 // inverse block solved without the inverse (right preconditioning) against the explicitly formed
-// Jacobian, with and without Dirichlet DOFs, dense blocks and a second inverse block.
+// Jacobian, with and without Dirichlet DOFs, dense blocks and a second inverse block; the
+// condensed LU (sparse DOFs eliminated first, Schur complement on the dense columns) against a
+// dense LU of the same matrix, and its refusal of a singular sparse block, after which the Newton
+// system factors the whole matrix.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +12,7 @@
 #include <random>
 
 #include "flagella_sim/core/dense_lu_solver.h"
+#include "flagella_sim/solver/condensed_dense_lu.h"
 #include "flagella_sim/solver/dense_newton_system.h"
 #include "support/random_matrices.h"
 
@@ -30,6 +34,8 @@ TEST(DenseLu, SolvesAndInvertsNonSymmetricSystems) {
     const VecX b = A * x;
     EXPECT_LT((A * lu.solve(b) - b).norm(), 1e-12 * A.norm() * x.norm());  // backward error
     EXPECT_LT((lu.inverse() * A - MatX::Identity(n, n)).norm(), 1e-8);
+    const VecX bt = A.transpose() * x;
+    EXPECT_LT((A.transpose() * lu.solveTransposed(bt) - bt).norm(), 1e-12 * A.norm() * x.norm());
   }
 }
 
@@ -145,6 +151,9 @@ TEST(DenseNewtonSystem, MatchesTheExplicitJacobianWithoutFormingTheInverse) {
       system.addScaledInverse(t->dofs, t->factored, t->weights, t->scale);
     ASSERT_TRUE(system.factorize(1e-15));
     EXPECT_EQ(system.preconditioned(), c.expect_preconditioned);
+    // condensed whenever preconditioned without other dense blocks (the second inverse block is
+    // added as a dense block)
+    EXPECT_EQ(system.condensed(), c.expect_preconditioned && !c.dense_block && !c.second_inverse);
 
     const MatX J = explicitJacobian(S, terms, dense_dofs, dense_block, fixed);
     std::mt19937 rng(90 + k);
@@ -162,6 +171,90 @@ TEST(DenseNewtonSystem, MatchesTheExplicitJacobianWithoutFormingTheInverse) {
       }
     }
   }
+}
+
+// The matrix CondensedDenseLu sees: sparse columns from S, dense columns on `dofs`.
+MatX withDenseColumns(const SparseMatrix& S, const std::vector<int>& dofs,
+                      const CondensedDenseLu::RowMajorMatX& columns) {
+  MatX M(S);
+  for (size_t k = 0; k < dofs.size(); ++k) M.col(dofs[k]) = columns.col(k);
+  return M;
+}
+
+TEST(CondensedDenseLu, SolvesLikeADenseLuOfTheWholeMatrix) {
+  const int n = 70, m = 30;
+  for (unsigned seed : {1u, 2u, 3u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    std::mt19937 rng(seed);
+    std::vector<int> all(n);
+    for (int i = 0; i < n; ++i) all[i] = i;
+    std::shuffle(all.begin(), all.end(), rng);
+    const std::vector<int> dofs(all.begin(), all.begin() + m);  // unsorted, like a node list
+    std::vector<bool> fixed(n, false);
+    fixed[all[m]] = fixed[all[m + 1]] = true;  // two pinned sparse DOFs
+    const SparseMatrix S = bandedJacobian(n, fixed, 20 + seed);
+    CondensedDenseLu::RowMajorMatX columns = randomMatrix(n, 40 + seed).leftCols(m);
+    for (int k = 0; k < m; ++k) columns(dofs[k], k) += 15.0;  // a dominant diagonal
+    for (int i = 0; i < n; ++i)
+      if (fixed[i]) columns.row(i).setZero();
+    const MatX M = withDenseColumns(S, dofs, columns);
+
+    CondensedDenseLu lu;
+    for (int repeat = 0; repeat < 2; ++repeat) {  // the second reuses the symbolic analysis
+      ASSERT_TRUE(lu.factorize(S, dofs, columns, 1e-15));
+      std::normal_distribution<double> g;
+      const VecX rhs = VecX::NullaryExpr(n, [&] { return g(rng); });
+      VecX x = rhs;
+      lu.solveInPlace(x);
+      EXPECT_LT((M * x - rhs).norm(), 1e-12 * M.norm() * x.norm());  // backward error
+      const VecX reference = M.partialPivLu().solve(rhs);
+      EXPECT_LT((x - reference).norm(), 1e-10 * reference.norm());
+      columns *= 1.5;  // new values, same pattern
+      const MatX scaled = withDenseColumns(S, dofs, columns);
+      ASSERT_TRUE(lu.factorize(S, dofs, columns, 1e-15));
+      VecX y = rhs;
+      lu.solveInPlace(y);
+      EXPECT_LT((scaled * y - rhs).norm(), 1e-12 * scaled.norm() * y.norm());
+      columns /= 1.5;
+    }
+  }
+}
+
+TEST(CondensedDenseLu, RefusesASingularSparseBlockAndTheNewtonSystemFactorsTheWhole) {
+  // The sparse DOFs' block is singular (two equal rows) while the whole matrix is not: the
+  // condensation has no pivoting across blocks and must refuse; DenseNewtonSystem then factors
+  // the whole matrix and still solves it.
+  const int n = 12, m = 6;
+  const std::vector<int> dofs{0, 1, 2, 3, 4, 5};
+  TripletList t;
+  for (int i = m; i < n; ++i) t.emplace_back(i, i, i == n - 1 ? 0.0 : 3.0);  // S block singular
+  for (int i = 0; i < m; ++i) t.emplace_back(n - 1, i, 0.0);
+  t.emplace_back(0, n - 1, 1.0);  // column n-1 lives on a dense DOF's row only
+  SparseMatrix S(n, n);
+  S.setFromTriplets(t.begin(), t.end());
+  CondensedDenseLu::RowMajorMatX columns = randomMatrix(n, 5).leftCols(m);
+  columns.row(n - 1).setConstant(1.0);  // row n-1 lives on the dense columns only
+  const MatX M = withDenseColumns(S, dofs, columns);
+  ASSERT_GT(std::abs(M.determinant()), 1e-8);
+  CondensedDenseLu lu;
+  EXPECT_FALSE(lu.factorize(S, dofs, columns, 1e-15));
+
+  // The same structure through the Newton system: J = S - s diag(w) A^{-1} on dofs.
+  InverseTerm term{dofs, MatX::Identity(m, m) + 0.2 * randomMatrix(m, 6), {}, VecX::Ones(m), 1.0};
+  ASSERT_TRUE(term.factored.factorize(term.matrix));
+  SparseMatrix S2 = S;
+  for (int i = 0; i < m; ++i) S2.coeffRef(n - 1, i) = 1.0 + i;  // row n-1 couples to the dofs
+  const std::vector<bool> fixed(n, false);
+  DenseNewtonSystem system;
+  system.begin(S2, fixed);
+  system.addScaledInverse(term.dofs, term.factored, term.weights, term.scale);
+  ASSERT_TRUE(system.factorize(1e-15));
+  EXPECT_TRUE(system.preconditioned());
+  EXPECT_FALSE(system.condensed());
+  const MatX J = explicitJacobian(S2, {&term}, {}, MatX(), fixed);
+  const VecX rhs = VecX::LinSpaced(n, -1.0, 1.0);
+  const VecX dq = system.solve(rhs);
+  EXPECT_LT((J * dq - rhs).norm(), 1e-11 * J.norm() * dq.norm());
 }
 
 TEST(DenseNewtonSystem, DefaultSinkFormsTheSameBlock) {

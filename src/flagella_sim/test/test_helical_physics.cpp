@@ -183,9 +183,11 @@ TEST(HelicalPhysics, MirroredRobotSwimsTheMirrorImagePath) {
     off_plane = std::max(off_plane, std::abs(a.y()));
     travelled = std::max(travelled, (a - left.front().head_position).norm());
     worst = std::max(worst, (Vec3(b.x(), -b.y(), b.z()) - a).norm());
-    // 1e-8: the tolerance-driven choices of the solver (a rotated RSS factorisation reused or
-    // rebuilt, GMRES stopped at its target) see the two runs through different round-off
-    EXPECT_NEAR(right[k].omega_h, -left[k].omega_h, 1e-8 * (1.0 + std::abs(left[k].omega_h)));
+    // 1e-7: the tolerance-driven choices of the solver (a rotated RSS factorisation reused or
+    // rebuilt, GMRES stopped at its target, KLU's pivots in the condensed dense LU) see the two
+    // runs through different round-off (5.5e-8 at one sample of 600 measured); still 1e-3 of
+    // the solver's own accuracy (shipped against exact solver: 1.3e-4, docs/model.md 4.4)
+    EXPECT_NEAR(right[k].omega_h, -left[k].omega_h, 1e-7 * (1.0 + std::abs(left[k].omega_h)));
   }
   EXPECT_GT(travelled, 1e-3);  // it swam (about 1.5 mm in 6 s)
   EXPECT_GT(off_plane, 1e-5);  // and left the mirror plane

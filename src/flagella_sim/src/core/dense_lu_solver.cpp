@@ -59,11 +59,14 @@ bool DenseLuSolver::factorizeStored(double min_rcond) {
   return info == 0 && rcond_ > min_rcond;
 }
 
-VecX DenseLuSolver::solve(const VecX& b) const {
+VecX DenseLuSolver::solve(const VecX& b) const { return solveWith('N', b); }
+
+VecX DenseLuSolver::solveTransposed(const VecX& b) const { return solveWith('T', b); }
+
+VecX DenseLuSolver::solveWith(char trans, const VecX& b) const {
   const int n = size(), nrhs = 1;
   VecX x = b;
   int info = 0;
-  const char trans = 'N';
   dgetrs_(&trans, &n, &nrhs, lu_.data(), &n, pivots_.data(), x.data(), &n, &info);
   if (info != 0) x.setConstant(std::numeric_limits<double>::quiet_NaN());
   return x;

@@ -237,6 +237,8 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
   o.krylov_iterations = r.integer("krylov_iterations", o.krylov_iterations, 0, 200);
   o.extrapolate_initial_guess = r.flag("extrapolate_initial_guess", o.extrapolate_initial_guess);
   o.block_lu = r.choice("linear_solver", "block_lu", {"block_lu", "klu"}) == "block_lu";
+  o.condensed_dense_lu =
+      r.choice("dense_solver", "condensed", {"condensed", "full"}) == "condensed";
   o.trace = r.flag("trace", o.trace);
   c.size_check = r.flag("size_check", c.size_check);
   r.rejectUnknown();

@@ -10,14 +10,22 @@ namespace flagella {
 void DenseNewtonSystem::begin(const SparseMatrix& sparse, const std::vector<bool>& fixed) {
   sparse_ = &sparse;
   fixed_ = &fixed;
-  jacobian_ = sparse;  // reuses the last LU's storage when the size is unchanged
+  formed_ = false;  // the dense matrix is formed only when needed (formDense)
   has_dense_blocks_ = false;
   has_inverse_ = false;
   preconditioned_ = false;
+  condensed_ = false;
   completed_ = false;
 }
 
+void DenseNewtonSystem::formDense() {
+  if (formed_) return;
+  jacobian_ = *sparse_;  // reuses the last LU's storage when the size is unchanged
+  formed_ = true;
+}
+
 void DenseNewtonSystem::addDense(const std::vector<int>& dofs, const MatX& block, double scale) {
+  formDense();
   const int n = static_cast<int>(dofs.size());
   for (int c = 0; c < n; ++c)
     for (int r = 0; r < n; ++r) jacobian_(dofs[r], dofs[c]) -= scale * block(r, c);
@@ -50,46 +58,49 @@ void DenseNewtonSystem::precondition() {
   const MatX& a = inverse_.matrix->matrix();
   const std::vector<int>& dofs = inverse_.dofs;
   const int m = static_cast<int>(dofs.size());
+  const int n = static_cast<int>(sparse_->rows());
   alpha_ = a.diagonal().cwiseAbs().mean();
-  // J0 P^T A, row by row: each nonzero J0(i, d_k) adds J0(i, d_k) A(k, :) to row i (BLAS axpy on
-  // contiguous rows, vectorised for the CPU at run time)
-  a_rows_ = a;
+  // J0 P^T A / alpha, row by row: each nonzero J0(i, d_k) adds J0(i, d_k) A(k, :) / alpha to row i
+  // (BLAS axpy on contiguous rows, vectorised for the CPU at run time)
+  a_rows_ = a / alpha_;  // C's block, A / alpha
   RowMajorMatX& columns = columns_;
-  columns.setZero(jacobian_.rows(), m);
+  columns.setZero(n, m);
   const int one = 1;
   for (int k = 0; k < m; ++k) {
     auto add = [&](int row, double value) {
       daxpy_(&m, &value, a_rows_.row(k).data(), &one, columns.row(row).data(), &one);
     };
     if (has_dense_blocks_) {
-      for (int row = 0; row < jacobian_.rows(); ++row)
+      for (int row = 0; row < n; ++row)
         if (jacobian_(row, dofs[k]) != 0.0) add(row, jacobian_(row, dofs[k]));
     } else {
       for (SparseMatrix::InnerIterator it(*sparse_, dofs[k]); it; ++it)
         add(static_cast<int>(it.row()), it.value());
     }
   }
-  for (int k = 0; k < m; ++k) {
-    jacobian_.col(dofs[k]) = columns.col(k) / alpha_;
-    jacobian_(dofs[k], dofs[k]) -= inverse_.scale * inverse_.row_weights(k) / alpha_;
-  }
+  for (int k = 0; k < m; ++k)
+    columns(dofs[k], k) -= inverse_.scale * inverse_.row_weights(k) / alpha_;
+  for (int i = 0; i < n; ++i)
+    if ((*fixed_)[i]) columns.row(i).setZero();  // Dirichlet rows (docs/model.md 1.10)
   preconditioned_ = true;
 }
 
 bool DenseNewtonSystem::factorize(double min_rcond) {
   if (completed_) throw std::logic_error("DenseNewtonSystem: one factorize() per begin()");
-  complete();
-  // J is not needed after its LU: factored in place, its storage comes back for the next begin()
-  return lu_.factorize(std::move(jacobian_), min_rcond);
-}
-
-void DenseNewtonSystem::complete() {
-  if (has_inverse_) {
-    if (canPrecondition())
-      precondition();
-    else
-      subtractExplicitInverse(inverse_);
+  completed_ = true;
+  if (has_inverse_ && canPrecondition()) {
+    precondition();
+    // Only the preconditioned columns are dense: condense the others out (docs/model.md 4.4)
+    condensed_ = condense_ && !has_dense_blocks_ &&
+                 condensed_lu_.factorize(*sparse_, inverse_.dofs, columns_, min_rcond);
+    if (condensed_) return true;
+    formDense();
+    for (size_t k = 0; k < inverse_.dofs.size(); ++k)
+      jacobian_.col(inverse_.dofs[k]) = columns_.col(k);
+  } else if (has_inverse_) {
+    subtractExplicitInverse(inverse_);
   }
+  formDense();
   // Dirichlet DOFs (docs/model.md 1.10)
   for (int i = 0; i < static_cast<int>(fixed_->size()); ++i) {
     if (!(*fixed_)[i]) continue;
@@ -97,18 +108,25 @@ void DenseNewtonSystem::complete() {
     jacobian_.col(i).setZero();
     jacobian_(i, i) = 1.0;
   }
-  completed_ = true;
+  // J is not needed after its LU: factored in place, its storage comes back for the next begin()
+  const bool factored = lu_.factorize(std::move(jacobian_), min_rcond);
+  formed_ = false;
+  return factored;
 }
 
 VecX DenseNewtonSystem::solve(const VecX& rhs) const {
-  VecX dq = lu_.solve(rhs);
+  VecX dq = rhs;
+  if (condensed_)
+    condensed_lu_.solveInPlace(dq);
+  else
+    dq = lu_.solve(rhs);
   if (!preconditioned_) return dq;
   const std::vector<int>& dofs = inverse_.dofs;
   VecX z(dofs.size());
   for (size_t k = 0; k < dofs.size(); ++k) z(k) = dq(dofs[k]);
-  // dq = C z with C as factored (a_rows_ is A at factorize()): a true chord step when the block's
-  // matrix has been updated since
-  const VecX mapped = a_rows_ * z / alpha_;
+  // dq = C z with C as factored (a_rows_ is A / alpha at factorize()): a true chord step when the
+  // block's matrix has been updated since
+  const VecX mapped = a_rows_ * z;
   for (size_t k = 0; k < dofs.size(); ++k) dq(dofs[k]) = mapped(k);
   return dq;
 }

@@ -58,6 +58,7 @@ ImplicitStepper::ImplicitStepper(RodNetwork net, std::vector<EffectPtr> effects,
   attempt_viscosity_ = medium_.viscosity();
   for (bool fixed : net_.fixed_dof) any_fixed_ = any_fixed_ || fixed;
   if (options_.block_lu) lu_.setBlocks(nodeEdgeBlocks(net_));
+  dense_system_.setCondensation(options_.condensed_dense_lu);
   for (const EffectPtr& e : effects_) {
     e->attach(net_);
     dense_ = dense_ || e->hasDenseJacobian();

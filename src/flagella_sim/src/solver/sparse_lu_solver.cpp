@@ -62,10 +62,18 @@ bool SparseLuSolver::factorize(const SparseMatrix& A) {
 
 VecX SparseLuSolver::solve(const VecX& b) {
   VecX x = b;
-  if (!impl_->numeric ||
-      !klu_solve(impl_->symbolic, impl_->numeric, impl_->n, 1, x.data(), &impl_->common))
-    x.setConstant(std::numeric_limits<double>::quiet_NaN());
+  if (!solveInPlace(x.data(), impl_->n, 1)) x.setConstant(std::numeric_limits<double>::quiet_NaN());
   return x;
+}
+
+bool SparseLuSolver::solveInPlace(double* b, int ldim, int nrhs) {
+  return impl_->numeric &&
+         klu_solve(impl_->symbolic, impl_->numeric, ldim, nrhs, b, &impl_->common);
+}
+
+double SparseLuSolver::pivotRatio() {
+  if (!impl_->numeric || !klu_rcond(impl_->symbolic, impl_->numeric, &impl_->common)) return 0.0;
+  return impl_->common.rcond;
 }
 
 }  // namespace flagella

@@ -19,6 +19,8 @@ class DenseLuSolver {
   bool factorize(MatX&& A, double min_rcond = 1e-15);
   /// Solves A x = b with the last factorisation.
   VecX solve(const VecX& b) const;
+  /// Solves A^T x = b with the last factorisation.
+  VecX solveTransposed(const VecX& b) const;
   /// A^{-1} from the last factorisation.
   MatX inverse() const;
   /// Reciprocal condition number estimate (1-norm) of the last factorised matrix.
@@ -30,6 +32,7 @@ class DenseLuSolver {
   bool checkInput(const MatX& A);
   /// dgetrf and dgecon on lu_.
   bool factorizeStored(double min_rcond);
+  VecX solveWith(char trans, const VecX& b) const;
 
   MatX lu_;
   std::vector<int> pivots_;

@@ -6,12 +6,15 @@
 // and J C = S C - (s / alpha) P^T diag(w) P needs only the sparse-times-dense product S P^T A.
 // Falls back to forming A^{-1} when a Dirichlet DOF is among the block's DOFs or a second such
 // block is added.
+// The preconditioned system is factored by condensing the sparse DOFs out (CondensedDenseLu, a
+// Schur complement on the block's DOFs), or as a whole when that refuses or is switched off.
 #pragma once
 
 #include <vector>
 
 #include "flagella_sim/core/dense_lu_solver.h"
 #include "flagella_sim/effects/effect.h"
+#include "flagella_sim/solver/condensed_dense_lu.h"
 
 namespace flagella {
 
@@ -34,6 +37,11 @@ class DenseNewtonSystem : public DenseJacobianSink {
   VecX solve(const VecX& rhs) const;
   /// True when the last factorize() used the preconditioned form (no inverse formed).
   bool preconditioned() const { return preconditioned_; }
+  /// Factor a preconditioned system without other dense blocks by condensing out its sparse DOFs
+  /// (CondensedDenseLu; the whole matrix when that refuses). Default on.
+  void setCondensation(bool on) { condense_ = on; }
+  /// True when the last factorize() condensed the sparse DOFs out.
+  bool condensed() const { return condensed_; }
 
  private:
   struct InverseBlock {
@@ -44,15 +52,17 @@ class DenseNewtonSystem : public DenseJacobianSink {
   };
   bool canPrecondition() const;
   void subtractExplicitInverse(const InverseBlock& block);
+  /// The preconditioned columns J C P^T (columns_), Dirichlet rows zeroed.
   void precondition();
-  /// Adds the inverse block (preconditioned or explicit) and pins the Dirichlet DOFs.
-  void complete();
+  /// The dense matrix from the sparse part, once per begin().
+  void formDense();
 
   using RowMajorMatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
   const SparseMatrix* sparse_ = nullptr;
   const std::vector<bool>* fixed_ = nullptr;
   MatX jacobian_;
+  bool formed_ = false;  ///< jacobian_ holds this begin()'s matrix
   bool has_dense_blocks_ = false;
   bool has_inverse_ = false;
   InverseBlock inverse_;
@@ -60,8 +70,11 @@ class DenseNewtonSystem : public DenseJacobianSink {
   bool completed_ = false;
   double alpha_ = 1.0;  ///< mean |diagonal| of the preconditioning matrix
   DenseLuSolver lu_;
-  RowMajorMatX a_rows_;   ///< A as preconditioned at the last factorize() (solve() uses it)
-  RowMajorMatX columns_;  ///< work space of precondition(), kept to avoid reallocation
+  bool condense_ = true;
+  bool condensed_ = false;
+  CondensedDenseLu condensed_lu_;
+  RowMajorMatX a_rows_;   ///< A / alpha as preconditioned at the last factorize() (solve() uses it)
+  RowMajorMatX columns_;  ///< J C on the preconditioned DOFs (n x m), from precondition()
 };
 
 }  // namespace flagella

@@ -46,6 +46,11 @@ struct NewtonOptions {
   /// block, no pivoting across blocks, KLU when it refuses its pivots); false: KLU always. Both
   /// solve the same system, to round-off (docs/model.md 1.10).
   bool block_lu = true;
+  /// Dense Newton systems (docs/model.md 4.4): the sparse DOFs (twists, head) are condensed out
+  /// and only the Schur complement on the flagellum positions is factored densely, falling back
+  /// to the whole matrix when a block is near singular; false: always the whole matrix. Both
+  /// solve the same system, to round-off.
+  bool condensed_dense_lu = true;
   /// Print every Newton iterate's scaled residual to stderr.
   bool trace = false;
 };

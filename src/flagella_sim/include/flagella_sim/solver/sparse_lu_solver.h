@@ -25,6 +25,11 @@ class SparseLuSolver {
   bool factorize(const SparseMatrix& A);
   /// Solves A x = b with the last factorisation.
   VecX solve(const VecX& b);
+  /// Solves A X = B in place for `nrhs` right-hand sides stored column by column (leading
+  /// dimension `ldim` >= size); false without a factorisation or on a KLU error.
+  bool solveInPlace(double* b, int ldim, int nrhs);
+  /// KLU's reciprocal pivot ratio (smallest |U_kk| over largest) of the last factorisation.
+  double pivotRatio();
 
   int numericFactorizations() const { return full_factorizations_; }
   int refactorizations() const { return refactorizations_; }
