@@ -44,6 +44,37 @@ void validatePolyline(const Polyline& nodes, double eps) {
   validatePolyline(nodes, chainSegments(static_cast<int>(nodes.size())), eps);
 }
 
+namespace {
+
+// Dl A1 and Dl A2 of docs/model.md 4.2 added at rows `row`, columns `col_a` and `col_b` (4.3):
+// both are symmetric, c I + c_rr r r^T + c_rv (r v^T + v r^T) + c_vv v v^T, so six entries each.
+void addSegmentBlocks(const Vec3& r, const SegmentGeometry& segment, const SegmentIntegrals& t,
+                      double e2, MatX& ablk, int row, int col_a, int col_b) {
+  const Vec3& v = segment.v;
+  const double dl = segment.dl;
+  // A2 = (T1,-1 + e2 T1,-3) I + T1,-3 rr + T2,-3 (rv + vr) + T3,-3 vv; A1 = A1' - A2 with
+  // A1' = (T0,-1 + e2 T0,-3) I + T0,-3 rr + T1,-3 (rv + vr) + T2,-3 vv
+  const double d2 = dl * (t.t1m1 + e2 * t.t1m3), rr2 = dl * t.t1m3, rv2 = dl * t.t2m3,
+               vv2 = dl * t.t3m3;
+  const double d1 = dl * (t.t0m1 + e2 * t.t0m3) - d2, rr1 = dl * t.t0m3 - rr2,
+               rv1 = dl * t.t1m3 - rv2, vv1 = dl * t.t2m3 - vv2;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i <= j; ++i) {
+      const double rr = r[i] * r[j], rv = r[i] * v[j] + v[i] * r[j], vv = v[i] * v[j];
+      const double diagonal = i == j ? 1.0 : 0.0;
+      const double a1 = d1 * diagonal + rr1 * rr + rv1 * rv + vv1 * vv;
+      const double a2 = d2 * diagonal + rr2 * rr + rv2 * rv + vv2 * vv;
+      ablk(row + i, col_a + j) += a1;
+      ablk(row + i, col_b + j) += a2;
+      if (i != j) {
+        ablk(row + j, col_a + i) += a1;
+        ablk(row + j, col_b + i) += a2;
+      }
+    }
+}
+
+}  // namespace
+
 MatX assembleRssMatrix(const Polyline& nodes, const Segments& segments, double eps) {
   MatX ablk;
   assembleRssMatrix(nodes, segments, eps, ablk);
@@ -54,12 +85,18 @@ void assembleRssMatrix(const Polyline& nodes, const Segments& segments, double e
   validatePolyline(nodes, segments, eps);
   const int m = static_cast<int>(nodes.size());
   ablk.setZero(3 * m, 3 * m);
+  // R = sqrt(|x_p - x_q|^2 + eps^2) of every node pair: each segment end's R_alpha (4.2), once
+  const double e2 = eps * eps;
+  MatX end_r(m, m);
+  for (int q = 0; q < m; ++q)
+    for (int p = 0; p <= q; ++p)
+      end_r(p, q) = end_r(q, p) = std::sqrt((nodes[p] - nodes[q]).squaredNorm() + e2);
   for (const auto& [a, b] : segments) {
-    const double dl = (nodes[b] - nodes[a]).norm();
+    const SegmentGeometry segment(nodes[a], nodes[b]);
     for (int p = 0; p < m; ++p) {
-      const SegmentBlocks blocks = segmentBlocks(nodes[p], nodes[a], nodes[b], eps);
-      ablk.block<3, 3>(3 * p, 3 * a) += dl * blocks.a1;  // docs/model.md 4.3
-      ablk.block<3, 3>(3 * p, 3 * b) += dl * blocks.a2;
+      const Vec3 r = nodes[p] - nodes[a];
+      const SegmentIntegrals t = segmentIntegrals(r, segment, end_r(p, a), end_r(p, b), eps);
+      addSegmentBlocks(r, segment, t, e2, ablk, 3 * p, 3 * a, 3 * b);
     }
   }
 }

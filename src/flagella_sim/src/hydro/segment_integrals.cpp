@@ -13,9 +13,9 @@ struct End {
   bool behind;  // r_alpha . v < 0: Dl R + r.v would cancel (docs/model.md 4.5)
 };
 
-End endAt(double r2, double rv, double dl, double eps) {
+End endAt(double R, double rv, double dl) {
   End e;
-  e.R = std::sqrt(r2 + eps * eps);
+  e.R = R;
   e.rv = rv;
   e.G = dl * e.R + std::abs(rv);
   e.behind = rv < 0.0;
@@ -30,14 +30,29 @@ double inverseRgRegular(const End& e) { return (e.behind ? -1.0 : 1.0) / (e.R * 
 
 }  // namespace
 
+SegmentGeometry::SegmentGeometry(const Vec3& x_i, const Vec3& x_ip1)
+    : v(x_i - x_ip1),
+      dl2(v.squaredNorm()),
+      dl(std::sqrt(dl2)),
+      inv_dl(1.0 / dl),
+      inv_dl2(1.0 / dl2) {}
+
 SegmentIntegrals segmentIntegrals(const Vec3& r_i, const Vec3& v, double eps) {
-  const double dl2 = v.squaredNorm();
-  const double dl = std::sqrt(dl2);
+  const SegmentGeometry segment(Vec3::Zero(), -v);
+  const double e2 = eps * eps;
+  return segmentIntegrals(r_i, segment, std::sqrt(r_i.squaredNorm() + e2),
+                          std::sqrt((r_i + v).squaredNorm() + e2), eps);
+}
+
+SegmentIntegrals segmentIntegrals(const Vec3& r_i, const SegmentGeometry& segment, double r_0,
+                                  double r_1, double eps) {
+  const Vec3& v = segment.v;
+  const double dl2 = segment.dl2, dl = segment.dl, inv_dl2 = segment.inv_dl2;
   const double riv = r_i.dot(v);
-  const Vec3 r_perp = r_i - (riv / dl2) * v;  // the same for every alpha
+  const Vec3 r_perp = r_i - (riv * inv_dl2) * v;  // the same for every alpha
   const double rho2 = r_perp.squaredNorm() + eps * eps;
-  const End e0 = endAt(r_i.squaredNorm(), riv, dl, eps);
-  const End e1 = endAt((r_i + v).squaredNorm(), riv + dl2, dl, eps);
+  const End e0 = endAt(r_0, riv, dl);
+  const End e1 = endAt(r_1, riv + dl2, dl);
   // r_alpha.v grows with alpha, so only e0 can be behind while e1 is not.
   const bool mixed = e0.behind && !e1.behind;
 
@@ -52,24 +67,23 @@ SegmentIntegrals segmentIntegrals(const Vec3& r_i, const Vec3& v, double eps) {
   } else {
     log_ratio = std::log(e1.G / e0.G);
   }
-  t.t0m1 = log_ratio / dl;
+  t.t0m1 = log_ratio * segment.inv_dl;
   // T_{0,-3} = -[1/(R (Dl R + r.v))]_0^1 (docs/model.md 4.2 with the rewrite of 4.5).
   t.t0m3 = -(inverseRgRegular(e1) - inverseRgRegular(e0)) + (mixed ? 2.0 / (dl * rho2) : 0.0);
   // [R]_0^1 = (R_1^2 - R_0^2)/(R_1 + R_0) = (2 r_i.v + Dl^2)/(R_1 + R_0): no cancellation.
   const double dR = (2.0 * riv + dl2) / (e1.R + e0.R);
-  const double dInvR = -dR / (e0.R * e1.R);  // [1/R]_0^1
+  const double inv_r0 = 1.0 / e0.R, inv_r1 = 1.0 / e1.R;
+  const double dInvR = -dR * inv_r0 * inv_r1;  // [1/R]_0^1
   // Recursions of docs/model.md 4.2 (integration by parts, d R/d alpha = r_alpha.v / R).
-  t.t1m1 = dR / dl2 - riv / dl2 * t.t0m1;
-  t.t1m3 = -dInvR / dl2 - riv / dl2 * t.t0m3;
-  t.t2m3 = -(1.0 / e1.R) / dl2 + t.t0m1 / dl2 - riv / dl2 * t.t1m3;
-  t.t3m3 = -(1.0 / e1.R) / dl2 + 2.0 * t.t1m1 / dl2 - riv / dl2 * t.t2m3;
+  const double c = riv * inv_dl2;
+  t.t1m1 = (dR - riv * t.t0m1) * inv_dl2;
+  t.t1m3 = (-dInvR - riv * t.t0m3) * inv_dl2;
+  t.t2m3 = (-inv_r1 + t.t0m1) * inv_dl2 - c * t.t1m3;
+  t.t3m3 = (-inv_r1 + 2.0 * t.t1m1) * inv_dl2 - c * t.t2m3;
   return t;
 }
 
-SegmentBlocks segmentBlocks(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, double eps) {
-  const Vec3 r = xt - x_i;
-  const Vec3 v = x_i - x_ip1;
-  const SegmentIntegrals t = segmentIntegrals(r, v, eps);
+SegmentBlocks segmentBlocks(const Vec3& r, const Vec3& v, const SegmentIntegrals& t, double eps) {
   const Mat3 rr = r * r.transpose();
   const Mat3 rv_vr = r * v.transpose() + v * r.transpose();
   const Mat3 vv = v * v.transpose();
@@ -81,6 +95,12 @@ SegmentBlocks segmentBlocks(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, 
       (t.t0m1 + e2 * t.t0m3) * Mat3::Identity() + t.t0m3 * rr + t.t1m3 * rv_vr + t.t2m3 * vv;
   b.a1 = a1p - b.a2;
   return b;
+}
+
+SegmentBlocks segmentBlocks(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, double eps) {
+  const Vec3 r = xt - x_i;
+  const Vec3 v = x_i - x_ip1;
+  return segmentBlocks(r, v, segmentIntegrals(r, v, eps), eps);
 }
 
 Vec3 segmentVelocityTimes8PiMu(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, const Vec3& f_i,

@@ -17,6 +17,20 @@ struct SegmentIntegrals {
 /// x_{i+1} (must be non-zero), eps > 0. Inputs are not validated here (hot path): see rss_matrix.h.
 SegmentIntegrals segmentIntegrals(const Vec3& r_i, const Vec3& v, double eps);
 
+/// A segment x_i -> x_{i+1} as every evaluation point sees it: v = x_i - x_{i+1}, Dl^2, Dl, 1/Dl,
+/// 1/Dl^2.
+struct SegmentGeometry {
+  SegmentGeometry(const Vec3& x_i, const Vec3& x_ip1);
+  Vec3 v;
+  double dl2, dl, inv_dl, inv_dl2;
+};
+
+/// The same integrals with the segment's geometry and both ends' R_alpha = sqrt(|xt - x_end|^2 +
+/// eps^2) given (R_0 at x_i, R_1 at x_{i+1}): an assembly over many points and segments computes
+/// each node pair's R once (docs/model.md 4.2).
+SegmentIntegrals segmentIntegrals(const Vec3& r_i, const SegmentGeometry& segment, double r_0,
+                                  double r_1, double eps);
+
 /// The blocks A1 (multiplies f_i) and A2 (multiplies f_{i+1}) of docs/model.md 4.2, so that the
 /// segment x_i -> x_{i+1} induces 8 pi mu u(xt) = Dl (A1 f_i + A2 f_{i+1}), Dl = |x_{i+1} - x_i|.
 struct SegmentBlocks {
@@ -24,6 +38,8 @@ struct SegmentBlocks {
   Mat3 a2 = Mat3::Zero();
 };
 SegmentBlocks segmentBlocks(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, double eps);
+/// The same blocks from r_i = xt - x_i, v = x_i - x_{i+1} and the segment's integrals.
+SegmentBlocks segmentBlocks(const Vec3& r_i, const Vec3& v, const SegmentIntegrals& t, double eps);
 
 /// 8 pi mu u(xt) induced by the segment with nodal force densities f_i, f_ip1 (docs/model.md 4.2).
 Vec3 segmentVelocityTimes8PiMu(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, const Vec3& f_i,
