@@ -3,8 +3,10 @@
 #include <cmath>
 #include <sstream>
 
+#include "flagella_sim/core/file_paths.h"
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/units.h"
+#include "sim_node.h"
 
 namespace flagella::sim_node {
 
@@ -18,6 +20,18 @@ constexpr double kMaxCameraRate = 1e3;            // [Hz]
 constexpr double kMaxTime = 1e9;                  // [s]
 constexpr double kMaxAccelerometerNoise = 10.0;   // [m/s^2], as AccelerometerOptions::validate
 constexpr double kMaxAccelerometerRate = 3200.0;  // [Hz], the ADXL345's fastest output rate
+constexpr double kMaxRate = 1e4;                  // [Hz]
+constexpr double kMaxRealTimeFactor = 1e6;
+constexpr double kMaxDuration = 1e9;         // [s]
+constexpr double kMaxLockstepTimeout = 1e6;  // [s wall]
+
+std::string defaultPrefix(const ros::NodeHandle& nh) {
+  std::string ns = nh.getNamespace();
+  while (!ns.empty() && ns.front() == '/') ns.erase(ns.begin());
+  for (char& c : ns)
+    if (c == '/') c = '_';
+  return ns.empty() ? "flagella" : ns;
+}
 }  // namespace
 
 double rangedParam(const ros::NodeHandle& nh, const std::string& name, double fallback, double min,
@@ -106,6 +120,46 @@ flagella::SessionOptions sessionOptionsFromParams(const ros::NodeHandle& nh) {
   nh.param("accelerometer_seed", seed, seed);
   o.accelerometer.seed = static_cast<unsigned>(seed);
   o.validate();
+  return o;
+}
+
+SimNodeOptions nodeOptionsFromParams(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
+  SimNodeOptions o;
+  if (!pnh.getParam("config", o.config_path) || o.config_path.empty())
+    throw flagella::ConfigError("parameter ~config (path of a robot config YAML) is required");
+  // a relative path: from the directory roslaunch was started in (the launch files' base_directory)
+  o.config_path =
+      flagella::resolveAgainst(o.config_path, pnh.param<std::string>("base_directory", ""));
+  pnh.param<std::string>("world_frame", o.world_frame, o.world_frame);
+  pnh.param<std::string>("tf_prefix", o.tf_prefix, defaultPrefix(nh));
+  o.real_time_factor = rangedParam(pnh, "real_time_factor", o.real_time_factor, 0.0,
+                                   kMaxRealTimeFactor, "(0: as fast as possible)");
+  pnh.param("publish_clock", o.publish_clock, o.publish_clock);
+  o.state_rate = rangedParam(pnh, "state_rate", o.state_rate, 1e-3, kMaxRate, "Hz");
+  o.marker_rate = rangedParam(pnh, "marker_rate", o.marker_rate, 1e-3, kMaxRate, "Hz");
+  o.path_rate = rangedParam(pnh, "path_rate", o.path_rate, 1e-3, kMaxRate, "Hz");
+  o.diagnostics_rate =
+      rangedParam(pnh, "diagnostics_rate", o.diagnostics_rate, 1e-3, kMaxRate, "Hz");
+  o.path_max_poses =
+      static_cast<int>(rangedParam(pnh, "path_max_poses", o.path_max_poses, 1, 1e7, "poses"));
+  o.duration = rangedParam(pnh, "duration", o.duration, 0.0, kMaxDuration, "s (0: forever)");
+  pnh.param("wait_for_subscribers", o.wait_for_subscribers, o.wait_for_subscribers);
+  pnh.param<std::string>("wait_for_recorder", o.wait_for_recorder, o.wait_for_recorder);
+  std::string followers;
+  pnh.param<std::string>("followers", followers, "");
+  std::istringstream names(followers);
+  for (std::string name; names >> name;) o.followers.push_back(name);
+  o.wait_timeout = rangedParam(pnh, "wait_timeout", o.wait_timeout, 0.0, 1e6, "s");
+  o.progress_period =
+      rangedParam(pnh, "progress_period", o.progress_period, 0.0, 1e6, "wall s (0: none)");
+  pnh.param("lockstep", o.lockstep, o.lockstep);
+  pnh.param("lockstep_slider", o.lockstep_slider, o.lockstep_slider);
+  o.lockstep_timeout = rangedParam(pnh, "lockstep_timeout", o.lockstep_timeout, 1e-3,
+                                   kMaxLockstepTimeout, "s of wall time");
+  o.markers.tail_width =
+      rangedParam(pnh, "marker_tail_width", o.markers.tail_width, 1e-5, 1.0, "m");
+  o.markers.head_width =
+      rangedParam(pnh, "marker_head_width", o.markers.head_width, 1e-5, 1.0, "m");
   return o;
 }
 

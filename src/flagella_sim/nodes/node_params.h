@@ -11,6 +11,8 @@
 
 namespace flagella::sim_node {
 
+struct SimNodeOptions;
+
 /// A double parameter in [min, max], or `fallback` if unset.
 double rangedParam(const ros::NodeHandle& nh, const std::string& name, double fallback, double min,
                    double max, const std::string& unit);
@@ -21,5 +23,9 @@ flagella::Vec3 vectorParam(const ros::NodeHandle& nh, const std::string& name,
 std::vector<std::string> splitOverrides(const std::string& text);
 /// The session options (motor range, failsafe, slider, IMU, camera) from parameters.
 flagella::SessionOptions sessionOptionsFromParams(const ros::NodeHandle& nh);
+/// The node's own options (config path, frames, rates, waits, lockstep, followers, markers) from
+/// the private handle `pnh`; the default tf_prefix is `nh`'s namespace ('/' -> '_', "" ->
+/// "flagella").
+SimNodeOptions nodeOptionsFromParams(const ros::NodeHandle& nh, const ros::NodeHandle& pnh);
 
 }  // namespace flagella::sim_node

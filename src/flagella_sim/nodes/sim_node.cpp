@@ -1,84 +1,38 @@
 #include "sim_node.h"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
-#include <flagella_msgs/RodState.h>
 #include <flagella_msgs/lcm_conversions.h>
-#include <geometry_msgs/PointStamped.h>
 #include <ros/callback_queue.h>
-#include <sensor_msgs/Imu.h>
 #include <std_msgs/Empty.h>
 #include <tf2_msgs/TFMessage.h>
-#include <visualization_msgs/MarkerArray.h>
 
 #include <sstream>
 
-#include "flagella_sim/core/file_paths.h"
-#include "flagella_sim/lcm_io/lcm_messages.h"
+#include "flagella_sim/runtime/lockstep_gate.h"
 #include "flagella_sim/simulation/simulation_config.h"
 #include "node_params.h"
 
 namespace flagella::sim_node {
 
 namespace {
-constexpr double kMaxRate = 1e4;  // [Hz]
-constexpr double kMaxRealTimeFactor = 1e6;
-constexpr double kMaxDuration = 1e9;     // [s]
 constexpr double kIdlePoll = 0.005;      // [s wall] poll period while paused or waiting
 constexpr double kMaxPaceSleep = 0.002;  // [s wall] longest sleep while pacing
 constexpr double kDrainTime = 1.0;       // [s wall] let subscribers receive the last messages
 constexpr double kWallDiagnosticsPeriod = 1.0;  // [s wall] diagnostics while paused or halted
 constexpr double kLockstepPoll = 0.001;         // [s wall] longest wait for a callback in lockstep
-constexpr double kMaxLockstepTimeout = 1e6;     // [s wall]
 // Outgoing queue per subscriber: deep enough that a recorder keeps up with a session running
 // many times faster than real time (100 Hz IMU at 30x is 3000 messages per second).
 constexpr int kQueue = 5000;
 
-std::string defaultPrefix(const ros::NodeHandle& nh) {
-  std::string ns = nh.getNamespace();
-  while (!ns.empty() && ns.front() == '/') ns.erase(ns.begin());
-  for (char& c : ns)
-    if (c == '/') c = '_';
-  return ns.empty() ? "flagella" : ns;
+/// The lockstep policy with this node's limits.
+flagella::LockstepGate lockstepGate(const SimNodeOptions& o) {
+  return flagella::LockstepGate({o.wait_timeout, o.lockstep_timeout}, o.lockstep_slider);
 }
 
-SimNodeOptions nodeOptionsFromParams(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
-  SimNodeOptions o;
-  if (!pnh.getParam("config", o.config_path) || o.config_path.empty())
-    throw flagella::ConfigError("parameter ~config (path of a robot config YAML) is required");
-  // a relative path: from the directory roslaunch was started in (the launch files' base_directory)
-  o.config_path =
-      flagella::resolveAgainst(o.config_path, pnh.param<std::string>("base_directory", ""));
-  pnh.param<std::string>("world_frame", o.world_frame, o.world_frame);
-  pnh.param<std::string>("tf_prefix", o.tf_prefix, defaultPrefix(nh));
-  o.real_time_factor = rangedParam(pnh, "real_time_factor", o.real_time_factor, 0.0,
-                                   kMaxRealTimeFactor, "(0: as fast as possible)");
-  pnh.param("publish_clock", o.publish_clock, o.publish_clock);
-  o.state_rate = rangedParam(pnh, "state_rate", o.state_rate, 1e-3, kMaxRate, "Hz");
-  o.marker_rate = rangedParam(pnh, "marker_rate", o.marker_rate, 1e-3, kMaxRate, "Hz");
-  o.path_rate = rangedParam(pnh, "path_rate", o.path_rate, 1e-3, kMaxRate, "Hz");
-  o.diagnostics_rate =
-      rangedParam(pnh, "diagnostics_rate", o.diagnostics_rate, 1e-3, kMaxRate, "Hz");
-  o.path_max_poses =
-      static_cast<int>(rangedParam(pnh, "path_max_poses", o.path_max_poses, 1, 1e7, "poses"));
-  o.duration = rangedParam(pnh, "duration", o.duration, 0.0, kMaxDuration, "s (0: forever)");
-  pnh.param("wait_for_subscribers", o.wait_for_subscribers, o.wait_for_subscribers);
-  pnh.param<std::string>("wait_for_recorder", o.wait_for_recorder, o.wait_for_recorder);
-  std::string followers;
-  pnh.param<std::string>("followers", followers, "");
-  std::istringstream names(followers);
-  for (std::string name; names >> name;) o.followers.push_back(name);
-  o.wait_timeout = rangedParam(pnh, "wait_timeout", o.wait_timeout, 0.0, 1e6, "s");
-  o.progress_period =
-      rangedParam(pnh, "progress_period", o.progress_period, 0.0, 1e6, "wall s (0: none)");
-  pnh.param("lockstep", o.lockstep, o.lockstep);
-  pnh.param("lockstep_slider", o.lockstep_slider, o.lockstep_slider);
-  o.lockstep_timeout = rangedParam(pnh, "lockstep_timeout", o.lockstep_timeout, 1e-3,
-                                   kMaxLockstepTimeout, "s of wall time");
-  o.markers.tail_width =
-      rangedParam(pnh, "marker_tail_width", o.markers.tail_width, 1e-5, 1.0, "m");
-  o.markers.head_width =
-      rangedParam(pnh, "marker_head_width", o.markers.head_width, 1e-5, 1.0, "m");
-  return o;
+/// A NewestStamp (ROS stamp) as the gate's plain seconds.
+template <typename Stamp>
+flagella::HeardStamp heard(const Stamp& s) {
+  return {s.seen, s.stamp.toSec()};
 }
 
 void sleepWall(double seconds) { ros::WallDuration(seconds).sleep(); }
@@ -144,12 +98,6 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
                           : std::string("as fast as possible"))
                   << (options_.publish_clock ? "" : ", following /clock")
                   << (options_.lockstep ? ", lockstep with motor_command" : ""));
-}
-
-template <typename M>
-void SimNode::publish(ros::Publisher& pub, const M& msg) {
-  pub.publish(msg);
-  ++published_[pub.getTopic()];
 }
 
 void SimNode::onMotorCommand(const flagella_msgs::MotorCommand& msg) {
@@ -306,56 +254,53 @@ bool SimNode::waitForSubscribers() {
 
 bool SimNode::lockstepReady() {
   if (!awaiting_command_) return true;
-  const bool motor_answered = motor_stamp_.answers(awaited_stamp_);
-  const bool slider_answered = !options_.lockstep_slider || slider_stamp_.answers(awaited_stamp_);
-  if (motor_answered && slider_answered) {
-    awaiting_command_ = false;
-    return true;
+  const flagella::CommandWait wait = lockstepGate(options_).commands(
+      heard(motor_stamp_), heard(slider_stamp_), awaited_stamp_.toSec(),
+      (ros::WallTime::now() - await_wall_start_).toSec());
+  if (wait.verdict == flagella::CommandWait::Verdict::Waiting) {
+    // Sleeps until a callback is queued (at most kLockstepPoll) and runs what is there.
+    ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(kLockstepPoll));
+    return false;
   }
-  // A controller not heard from yet may still be starting up (planning a path, say): it gets
-  // wait_timeout, one that stalls mid-run lockstep_timeout.
-  const bool starting = !motor_stamp_.seen || (options_.lockstep_slider && !slider_stamp_.seen);
-  const double limit = starting ? options_.wait_timeout : options_.lockstep_timeout;
-  if ((ros::WallTime::now() - await_wall_start_).toSec() > limit) {
+  if (wait.verdict == flagella::CommandWait::Verdict::TimedOut) {
     ++lockstep_timeouts_;
     ROS_WARN(
         "flagella_sim: lockstep: no %s stamped >= %.6f s within %.3f s of wall time; stepping "
         "on (the command failsafe applies)",
-        motor_answered ? "slider_command" : "motor_command", awaited_stamp_.toSec(), limit);
-    awaiting_command_ = false;
-    return true;
+        wait.missing, awaited_stamp_.toSec(), wait.limit);
   }
-  // Sleeps until a callback is queued (at most kLockstepPoll) and runs what is there.
-  ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(kLockstepPoll));
-  return false;
+  awaiting_command_ = false;
+  return true;
 }
 
 bool SimNode::followersCaughtUp() {
-  bool caught_up = true;
-  for (const auto& f : followers_)
-    caught_up = caught_up && (f->lost || f->time + 0.5 * session_->dt() >= clockTime());
-  if (caught_up) {
-    waiting_for_followers_ = false;
-    return true;
-  }
-  // A follower still starting up (nothing heard yet) gets wait_timeout, one that stalls mid-run
-  // lockstep_timeout; then it is warned about once and no longer waited for.
-  bool starting = false;
-  for (const auto& f : followers_) starting = starting || (!f->lost && f->time < 0.0);
-  const double limit = starting ? options_.wait_timeout : options_.lockstep_timeout;
-  if (!waiting_for_followers_) {
-    waiting_for_followers_ = true;
-    follower_wait_start_ = ros::WallTime::now();
-  } else if ((ros::WallTime::now() - follower_wait_start_).toSec() > limit) {
-    for (const auto& f : followers_)
-      if (!f->lost && f->time + 0.5 * session_->dt() < clockTime()) {
-        f->lost = true;
+  std::vector<flagella::FollowerClock> clocks;
+  clocks.reserve(followers_.size());
+  for (const auto& f : followers_) clocks.push_back({f->time, f->lost});
+  const double waited =
+      waiting_for_followers_ ? (ros::WallTime::now() - follower_wait_start_).toSec() : 0.0;
+  const flagella::FollowerWait wait = lockstepGate(options_).followers(
+      clocks, clockTime(), session_->dt(), waiting_for_followers_, waited);
+  switch (wait.verdict) {
+    case flagella::FollowerWait::Verdict::CaughtUp:
+      waiting_for_followers_ = false;
+      return true;
+    case flagella::FollowerWait::Verdict::GiveUp:
+      waiting_for_followers_ = false;  // the next wait starts afresh for the followers left
+      for (const std::size_t i : wait.behind) {
+        followers_[i]->lost = true;
         ROS_WARN(
             "flagella_sim: follower %s silent for %.1f wall s at t = %.3f s; no longer "
             "waiting for it",
-            f->name.c_str(), limit, clockTime());
+            followers_[i]->name.c_str(), wait.limit, clockTime());
       }
-    return true;
+      return true;
+    case flagella::FollowerWait::Verdict::StartWaiting:
+      waiting_for_followers_ = true;
+      follower_wait_start_ = ros::WallTime::now();
+      break;
+    case flagella::FollowerWait::Verdict::Waiting:
+      break;
   }
   ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(kLockstepPoll));
   return false;
@@ -372,121 +317,6 @@ bool SimNode::readyToStep() {
   if (ahead <= 0.0) return true;
   sleepWall(std::min(ahead, kMaxPaceSleep));
   return false;
-}
-
-void SimNode::publishOutputs(bool force) {
-  const ros::Time now = stamp();
-  const flagella::DueOutputs due = schedule_.due(session_->time(), force);
-  if (!due.any()) return;
-  flagella::RodSnapshot snapshot;
-  if (due.needsSnapshot()) {
-    snapshot = session_->snapshot();
-    if (!snapshot.allFinite()) {
-      ROS_ERROR("flagella_sim: non-finite state at t = %.6f s; not published", clockTime());
-      return;
-    }
-  }
-  if (due.rod_state) {
-    flagella_msgs::RodState msg =
-        flagella_msgs::toRos(flagella::toRodStateMessage(snapshot, options_.world_frame));
-    msg.header.stamp = now;
-    msg.robot_name = options_.tf_prefix;  // this robot's instance name, not its config type
-    publish(state_pub_, msg);
-    tf2_msgs::TFMessage tf;
-    tf.transforms = rodTransforms(snapshot, now, options_.tf_prefix);
-    publish(tf_pub_, tf);
-  }
-  if (due.markers)
-    publish(marker_pub_, rodMarkers(snapshot, now, options_.world_frame, options_.markers));
-  if (due.path) {
-    path_.poses.push_back(headPose(snapshot, now, options_.world_frame));
-    if (static_cast<int>(path_.poses.size()) > options_.path_max_poses)
-      path_.poses.erase(path_.poses.begin());
-    path_.header.stamp = now;
-    publish(path_pub_, path_);
-  }
-  // The camera fix before the IMU sample of the same instant: a controller stepping on IMU
-  // samples can use the fix at once.
-  if (due.camera_fix && session_->cameraAvailable()) {
-    const flagella::CameraFix fix = session_->measureCamera();
-    if (fix.position.allFinite()) {
-      geometry_msgs::PointStamped msg =
-          flagella_msgs::toRos(flagella::toCameraFixMessage(fix, options_.world_frame));
-      msg.header.stamp = now;
-      publish(camera_pub_, msg);
-    }
-  }
-  if (due.imu) {
-    const flagella::ImuSample imu = session_->measureImu();
-    if (imu.orientation.coeffs().allFinite() && imu.angular_velocity.allFinite() &&
-        imu.linear_acceleration.allFinite()) {
-      sensor_msgs::Imu msg =
-          flagella_msgs::toRos(flagella::toImuMessage(imu, options_.tf_prefix + "/head"));
-      msg.header.stamp = now;
-      publish(imu_pub_, msg);
-      if (options_.lockstep) {
-        awaiting_command_ = true;
-        awaited_stamp_ = now;
-        await_wall_start_ = ros::WallTime::now();
-      }
-    }
-  }
-}
-
-void SimNode::publishDiagnostics() {
-  diagnostic_msgs::DiagnosticArray array;
-  array.header.stamp = stamp();
-  const double wall = (ros::WallTime::now() - run_wall_start_).toSec();
-  const double rtf = wall > 0.0 ? clockTime() / wall : 0.0;
-  array.status.push_back(sessionStatus(session_->health(), status_name_, clockTime(), rtf));
-  for (const auto& [topic, count] : published_) {
-    diagnostic_msgs::KeyValue kv;
-    kv.key = "published " + topic;
-    kv.value = std::to_string(count);
-    array.status.back().values.push_back(kv);
-  }
-  if (options_.lockstep) {
-    diagnostic_msgs::KeyValue kv;
-    kv.key = "lockstep_timeouts";
-    kv.value = std::to_string(lockstep_timeouts_);
-    array.status.back().values.push_back(kv);
-  }
-  publish(diag_pub_, array);
-}
-
-void SimNode::printSummary() const {
-  const double wall = (ros::WallTime::now() - run_wall_start_).toSec();
-  long total = 0;
-  std::ostringstream topics;
-  for (const auto& [topic, count] : published_) {
-    total += count;
-    topics << " " << topic << "=" << count;
-  }
-  const flagella::SessionHealth h = session_->health();
-  ROS_INFO(
-      "flagella_sim: %.3f s simulated in %.3f s wall (%.2fx real time), %ld steps, "
-      "%ld Newton iterations, %ld solver failures; %ld messages (%.0f/s):%s",
-      clockTime(), wall, wall > 0 ? clockTime() / wall : 0.0, h.steps, h.newton_iterations,
-      h.solver_failures, total, wall > 0 ? total / wall : 0.0, topics.str().c_str());
-}
-
-void SimNode::publishTime() {
-  if (!time_pub_) return;
-  rosgraph_msgs::Clock c;
-  c.clock = stamp();
-  time_pub_.publish(c);
-}
-
-void SimNode::logProgress() {
-  if (options_.progress_period <= 0.0) return;
-  const ros::WallTime now = ros::WallTime::now();
-  if ((now - last_progress_).toSec() < options_.progress_period) return;
-  last_progress_ = now;
-  const double wall = (now - run_wall_start_).toSec();
-  std::ostringstream of;
-  if (options_.duration > 0.0) of << " of " << options_.duration;
-  ROS_INFO("flagella_sim: t = %.1f%s s simulated, %.2fx real time, %ld steps", clockTime(),
-           of.str().c_str(), wall > 0 ? clockTime() / wall : 0.0, session_->health().steps);
 }
 
 int SimNode::run() {

@@ -137,7 +137,6 @@ class SimNode {
       if (!seen || t > stamp) stamp = t;
       seen = true;
     }
-    bool answers(const ros::Time& awaited) const { return seen && stamp >= awaited; }
   };
   NewestStamp motor_stamp_, slider_stamp_;
   long lockstep_timeouts_ = 0;
