@@ -61,27 +61,62 @@ void rejectUnknownKeys(const YAML::Node& node, const std::set<std::string>& allo
   }
 }
 
-}  // namespace
+/// The frame named by the 'frame' field's text.
+PathFrame pathFrame(const std::string& frame) {
+  if (frame == "start") return PathFrame::Start;
+  if (frame == "world") return PathFrame::World;
+  fail("'frame' must be 'start' or 'world', got '" + abbreviated(frame) + "'");
+}
 
-PathSpec pathSpecFromYaml(const YAML::Node& node) {
-  if (!node || !node.IsMap()) fail("the 'path' entry must be a map with a 'shape'");
-  rejectUnknownKeys(node, {"shape", "frame", "width", "height", "side", "radius", "turn", "points",
-                           "closed", "laps"});
-  if (!node["shape"]) fail("'shape' is required: polyline, circle, rectangle or triangle");
-  const std::string shape = text(node, "shape");
-  PathSpec spec;
-  const std::string frame = node["frame"] ? text(node, "frame") : "start";
-  if (frame == "start")
-    spec.frame = PathFrame::Start;
-  else if (frame == "world")
-    spec.frame = PathFrame::World;
-  else
-    fail("'frame' must be 'start' or 'world', got '" + abbreviated(frame) + "'");
+/// The polyline's 'points', each a finite [x, y] pair in metres.
+std::vector<Vec2> polylinePoints(const YAML::Node& node) {
+  if (!node["points"] || !node["points"].IsSequence())
+    fail("'points' is required for a polyline: a list of [x, y] pairs in metres");
+  std::vector<Vec2> points;
+  for (size_t i = 0; i < node["points"].size(); ++i) {
+    const YAML::Node p = node["points"][i];
+    if (!p.IsSequence() || p.size() != 2)
+      fail("points[" + std::to_string(i) + "] must be a pair [x, y] in metres");
+    double x = 0.0, y = 0.0;
+    try {
+      x = p[0].as<double>();
+      y = p[1].as<double>();
+    } catch (const YAML::Exception&) {
+      fail("points[" + std::to_string(i) + "] must hold two numbers");
+    }
+    if (!std::isfinite(x) || !std::isfinite(y))
+      fail("points[" + std::to_string(i) + "] must hold two finite numbers");
+    points.emplace_back(x, y);
+  }
+  return points;
+}
 
+/// Sets spec's path and description from a polyline entry; returns whether it is closed.
+bool readPolyline(const YAML::Node& node, PathSpec& spec) {
+  const std::vector<Vec2> points = polylinePoints(node);
+  bool closed = false;  // a polyline is open unless it says otherwise
+  if (node["closed"]) {
+    try {
+      closed = node["closed"].as<bool>();
+    } catch (const YAML::Exception&) {
+      fail("'closed' must be true or false, got '" + abbreviated(text(node, "closed")) + "'");
+    }
+  }
+  try {
+    spec.path = Path::polyline(points, closed);
+  } catch (const std::invalid_argument& e) {
+    fail(e.what());
+  }
+  spec.description = std::string(closed ? "closed " : "") + "polyline of " +
+                     std::to_string(points.size()) + " points";
+  return closed;
+}
+
+/// Sets spec's path and description from the 'shape' entry; returns whether the path is closed.
+bool readShape(const YAML::Node& node, const std::string& shape, PathSpec& spec) {
   const bool left = turnsLeft(node);
   const double side_sign = left ? 1.0 : -1.0;
   const std::string turn_text = left ? "left" : "right";
-  bool closed = true;
   if (shape == "rectangle") {
     const double w = positiveLength(node, "width"), h = positiveLength(node, "height");
     spec.path = Path::polyline({{0, 0}, {w, 0}, {w, side_sign * h}, {0, side_sign * h}}, true);
@@ -95,43 +130,16 @@ PathSpec pathSpecFromYaml(const YAML::Node& node) {
     spec.path = Path::circle({0, 0}, 0.0, r, left);
     spec.description = "circle, radius " + format(r) + " m, turning " + turn_text;
   } else if (shape == "polyline") {
-    if (!node["points"] || !node["points"].IsSequence())
-      fail("'points' is required for a polyline: a list of [x, y] pairs in metres");
-    std::vector<Vec2> points;
-    for (size_t i = 0; i < node["points"].size(); ++i) {
-      const YAML::Node p = node["points"][i];
-      if (!p.IsSequence() || p.size() != 2)
-        fail("points[" + std::to_string(i) + "] must be a pair [x, y] in metres");
-      double x = 0.0, y = 0.0;
-      try {
-        x = p[0].as<double>();
-        y = p[1].as<double>();
-      } catch (const YAML::Exception&) {
-        fail("points[" + std::to_string(i) + "] must hold two numbers");
-      }
-      if (!std::isfinite(x) || !std::isfinite(y))
-        fail("points[" + std::to_string(i) + "] must hold two finite numbers");
-      points.emplace_back(x, y);
-    }
-    closed = false;  // a polyline is open unless it says otherwise
-    if (node["closed"]) {
-      try {
-        closed = node["closed"].as<bool>();
-      } catch (const YAML::Exception&) {
-        fail("'closed' must be true or false, got '" + abbreviated(text(node, "closed")) + "'");
-      }
-    }
-    try {
-      spec.path = Path::polyline(points, closed);
-    } catch (const std::invalid_argument& e) {
-      fail(e.what());
-    }
-    spec.description = std::string(closed ? "closed " : "") + "polyline of " +
-                       std::to_string(points.size()) + " points";
+    return readPolyline(node, spec);
   } else {
     fail("unknown shape '" + abbreviated(shape) +
          "' (allowed: polyline, circle, rectangle, triangle)");
   }
+  return true;
+}
+
+/// Reads the optional 'laps' field into spec.laps ([1, 100]; 1 for an open path).
+void readLaps(const YAML::Node& node, bool closed, PathSpec& spec) {
   if (node["laps"]) {
     try {
       spec.laps = node["laps"].as<int>();
@@ -143,6 +151,22 @@ PathSpec pathSpecFromYaml(const YAML::Node& node) {
       fail("'laps' = " + std::to_string(spec.laps) + " is out of range [1, 100]");
     if (!closed && spec.laps != 1) fail("'laps' must be 1 for an open polyline");
   }
+}
+
+}  // namespace
+
+PathSpec pathSpecFromYaml(const YAML::Node& node) {
+  if (!node || !node.IsMap()) fail("the 'path' entry must be a map with a 'shape'");
+  rejectUnknownKeys(node, {"shape", "frame", "width", "height", "side", "radius", "turn", "points",
+                           "closed", "laps"});
+  if (!node["shape"]) fail("'shape' is required: polyline, circle, rectangle or triangle");
+  const std::string shape = text(node, "shape");
+  PathSpec spec;
+  const std::string frame = node["frame"] ? text(node, "frame") : "start";
+  spec.frame = pathFrame(frame);
+
+  const bool closed = readShape(node, shape, spec);
+  readLaps(node, closed, spec);
   spec.description += frame == "start" ? " (start frame)" : " (world frame)";
   return spec;
 }

@@ -165,19 +165,13 @@ std::vector<PulseObservation> observePulses(const flagella::SimulationConfig& co
   return pulses;
 }
 
-SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
-                                      const SteeringCalibrationOptions& options,
-                                      const std::function<void(const std::string&)>& progress) {
-  options.validate();
-  if (!config.slider.enabled)
-    throw std::runtime_error("steering calibration: the config has no slider: section");
-  const auto report = [&](const std::string& line) {
-    if (progress) progress(line);
-  };
-  SteeringCalibration c;
-  std::ostringstream source;
-  source << config.source << "; ";
-  // 1. Buckling threshold.
+namespace {
+
+using ProgressReport = std::function<void(const std::string&)>;
+
+// Step 1: the buckling threshold [rpm], given or searched; notes how it was found in `source`.
+double findThresholdRpm(const flagella::SimulationConfig& config,
+                        const SteeringCalibrationOptions& options, std::ostringstream& source) {
   double threshold_rpm = options.threshold_rpm;
   if (threshold_rpm > 0.0) {
     source << "threshold given " << threshold_rpm << " rpm; ";
@@ -190,23 +184,37 @@ SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
     threshold_rpm = r.threshold;
     source << "threshold " << options.threshold_run << " s runs, " << r.runs.size() << " runs; ";
   }
-  c.buckling_threshold = flagella::units::rpmToRadPerSec(threshold_rpm);
-  c.cruise_omega = options.cruise_fraction * c.buckling_threshold;
-  report("buckling threshold " + numberString(threshold_rpm) + " rpm, cruise " +
-         numberString(options.cruise_fraction * threshold_rpm) + " rpm");
-  // 2. Cruise speed.
-  {
-    SessionDriver driver(config, c.cruise_omega, "cruise");
-    Vec3 ignored = Vec3::Zero();
-    double shaft = 0.0;
-    const auto cruise = [&](double) { return c.cruise_omega; };
-    advance(driver, options.settle_time, cruise, ignored, shaft);
-    const Vec3 start = headPosition(driver);
-    advance(driver, options.cruise_measure, cruise, ignored, shaft);
-    c.cruise_speed = (headPosition(driver) - start).norm() / options.cruise_measure;
-  }
-  report("cruise speed " + numberString(c.cruise_speed * 1e3) + " mm/s");
-  // 3. The two buckle schedules.
+  return threshold_rpm;
+}
+
+// Step 2: the cruise speed at c.cruise_omega [m/s] (net head displacement over cruise_measure).
+double measureCruiseSpeed(const flagella::SimulationConfig& config,
+                          const SteeringCalibrationOptions& options, const SteeringCalibration& c) {
+  SessionDriver driver(config, c.cruise_omega, "cruise");
+  Vec3 ignored = Vec3::Zero();
+  double shaft = 0.0;
+  const auto cruise = [&](double) { return c.cruise_omega; };
+  advance(driver, options.settle_time, cruise, ignored, shaft);
+  const Vec3 start = headPosition(driver);
+  advance(driver, options.cruise_measure, cruise, ignored, shaft);
+  return (headPosition(driver) - start).norm() / options.cruise_measure;
+}
+
+// The progress line describing one fitted buckle schedule.
+std::string describeSchedule(const BuckleSchedule& schedule) {
+  const double deg = 180 / M_PI;
+  return std::string(scheduleName(schedule.kind)) + ": per cycle, constant turn (up " +
+         numberString(schedule.bias_up * deg) + ", left " + numberString(schedule.bias_left * deg) +
+         ") deg plus " + numberString(schedule.deflection * deg) + " deg by phase; residual " +
+         numberString(schedule.phase_spread * deg) + " deg; per um of slider held through " +
+         "the cycle (up " + numberString(schedule.up_per_slider * 1e-6 * deg) + ", left " +
+         numberString(schedule.left_per_slider * 1e-6 * deg) + ") deg";
+}
+
+// Step 3: sets up the relax and three-level schedules and fits their phase law and slider turn.
+void calibrateSchedules(const flagella::SimulationConfig& config,
+                        const SteeringCalibrationOptions& options, SteeringCalibration& c,
+                        const ProgressReport& report) {
   const double pulse_omega = options.pulse_factor * c.buckling_threshold;
   c.relax.kind = BuckleScheduleKind::Relax;
   c.relax.pulse_omega = pulse_omega;
@@ -226,58 +234,88 @@ SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
           observePulses(config, *schedule, c.cruise_omega, options, options.slider_pulses, -step),
           step, *schedule);
     }
-    const double deg = 180 / M_PI;
-    report(std::string(scheduleName(schedule->kind)) + ": per cycle, constant turn (up " +
-           numberString(schedule->bias_up * deg) + ", left " +
-           numberString(schedule->bias_left * deg) + ") deg plus " +
-           numberString(schedule->deflection * deg) + " deg by phase; residual " +
-           numberString(schedule->phase_spread * deg) + " deg; per um of slider held through " +
-           "the cycle (up " + numberString(schedule->up_per_slider * 1e-6 * deg) + ", left " +
-           numberString(schedule->left_per_slider * 1e-6 * deg) + ") deg");
+    report(describeSchedule(*schedule));
   }
+}
+
+// Step 4: the slider's park position (no couple at the nominal l_0) and pitch rate per metre.
+void calibrateSlider(const flagella::SimulationConfig& config,
+                     const SteeringCalibrationOptions& options, SteeringCalibration& c,
+                     const ProgressReport& report) {
+  SessionDriver driver(config, c.cruise_omega, "slider step");
+  const flagella::Simulation& sim = driver.session().simulation();
+  const double ratio = config.slider.mass / sim.parameter("effects.com_offset.head_mass");
+  const double l0 =
+      sim.parameter("effects.com_offset.offset") - ratio * config.slider.initial_position;
+  c.slider_min = config.slider.travel_min;
+  c.slider_max = config.slider.travel_max;
+  c.park_position = std::clamp(-l0 / ratio, c.slider_min, c.slider_max);
+  driver.commandSlider(c.park_position);
+  Vec3 ignored = Vec3::Zero();
+  double shaft = 0.0;
+  const auto cruise = [&](double) { return c.cruise_omega; };
+  advance(driver, options.settle_time, cruise, ignored, shaft);
+  // The robot's own pitching at park, over a whole window (the head wobbles with the
+  // flagellum's turn).
+  c.park_pitch_rate = elevationRateOver(driver, options.window, c.cruise_omega);
+  driver.commandSlider(
+      std::clamp(c.park_position + options.slider_step, c.slider_min, c.slider_max));
+  const double step =
+      std::clamp(c.park_position + options.slider_step, c.slider_min, c.slider_max) -
+      c.park_position;
+  const double slope = elevationRateOver(driver, options.pitch_window, c.cruise_omega);
+  c.pitch_rate_per_slider = slope / step;
+  report("slider: park " + numberString(c.park_position * 1e3) + " mm, pitch rate " +
+         numberString(c.pitch_rate_per_slider * 1e-3 * 180 / M_PI) + " deg/s per mm; at park " +
+         numberString(c.park_pitch_rate * 180 / M_PI) + " deg/s");
+}
+
+// Step 5: the crab angle per slider metre, parked a few micrometres to either side of park.
+void calibrateCrab(const flagella::SimulationConfig& config,
+                   const SteeringCalibrationOptions& options, SteeringCalibration& c,
+                   const ProgressReport& report) {
+  const auto crabAt = [&](double offset) {
+    return measureCrab(config, c.cruise_omega,
+                       std::clamp(c.park_position + offset, c.slider_min, c.slider_max),
+                       options.crab_settle, options.crab_measure);
+  };
+  const double plus = crabAt(options.crab_step), minus = crabAt(-options.crab_step);
+  c.crab_per_slider = (plus - minus) / (2.0 * options.crab_step);
+  const double deg = 180 / M_PI;
+  report("crab: " + numberString(minus * deg) + " / " + numberString(plus * deg) + " deg at -+" +
+         numberString(options.crab_step * 1e6) + " um of slider, " +
+         numberString(c.crab_per_slider * 1e-6 * deg) + " deg per um");
+}
+
+}  // namespace
+
+SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
+                                      const SteeringCalibrationOptions& options,
+                                      const std::function<void(const std::string&)>& progress) {
+  options.validate();
+  if (!config.slider.enabled)
+    throw std::runtime_error("steering calibration: the config has no slider: section");
+  const ProgressReport report = [&](const std::string& line) {
+    if (progress) progress(line);
+  };
+  SteeringCalibration c;
+  std::ostringstream source;
+  source << config.source << "; ";
+  // 1. Buckling threshold.
+  const double threshold_rpm = findThresholdRpm(config, options, source);
+  c.buckling_threshold = flagella::units::rpmToRadPerSec(threshold_rpm);
+  c.cruise_omega = options.cruise_fraction * c.buckling_threshold;
+  report("buckling threshold " + numberString(threshold_rpm) + " rpm, cruise " +
+         numberString(options.cruise_fraction * threshold_rpm) + " rpm");
+  // 2. Cruise speed.
+  c.cruise_speed = measureCruiseSpeed(config, options, c);
+  report("cruise speed " + numberString(c.cruise_speed * 1e3) + " mm/s");
+  // 3. The two buckle schedules.
+  calibrateSchedules(config, options, c, report);
   // 4. Slider: park position (no couple at the nominal l_0) and pitch rate per metre.
-  {
-    SessionDriver driver(config, c.cruise_omega, "slider step");
-    const flagella::Simulation& sim = driver.session().simulation();
-    const double ratio = config.slider.mass / sim.parameter("effects.com_offset.head_mass");
-    const double l0 =
-        sim.parameter("effects.com_offset.offset") - ratio * config.slider.initial_position;
-    c.slider_min = config.slider.travel_min;
-    c.slider_max = config.slider.travel_max;
-    c.park_position = std::clamp(-l0 / ratio, c.slider_min, c.slider_max);
-    driver.commandSlider(c.park_position);
-    Vec3 ignored = Vec3::Zero();
-    double shaft = 0.0;
-    const auto cruise = [&](double) { return c.cruise_omega; };
-    advance(driver, options.settle_time, cruise, ignored, shaft);
-    // The robot's own pitching at park, over a whole window (the head wobbles with the
-    // flagellum's turn).
-    c.park_pitch_rate = elevationRateOver(driver, options.window, c.cruise_omega);
-    driver.commandSlider(
-        std::clamp(c.park_position + options.slider_step, c.slider_min, c.slider_max));
-    const double step =
-        std::clamp(c.park_position + options.slider_step, c.slider_min, c.slider_max) -
-        c.park_position;
-    const double slope = elevationRateOver(driver, options.pitch_window, c.cruise_omega);
-    c.pitch_rate_per_slider = slope / step;
-    report("slider: park " + numberString(c.park_position * 1e3) + " mm, pitch rate " +
-           numberString(c.pitch_rate_per_slider * 1e-3 * 180 / M_PI) + " deg/s per mm; at park " +
-           numberString(c.park_pitch_rate * 180 / M_PI) + " deg/s");
-  }
+  calibrateSlider(config, options, c, report);
   // 5. Crab angle per slider metre: parked a few micrometres to either side (docs/model.md 7.4).
-  {
-    const auto crabAt = [&](double offset) {
-      return measureCrab(config, c.cruise_omega,
-                         std::clamp(c.park_position + offset, c.slider_min, c.slider_max),
-                         options.crab_settle, options.crab_measure);
-    };
-    const double plus = crabAt(options.crab_step), minus = crabAt(-options.crab_step);
-    c.crab_per_slider = (plus - minus) / (2.0 * options.crab_step);
-    const double deg = 180 / M_PI;
-    report("crab: " + numberString(minus * deg) + " / " + numberString(plus * deg) + " deg at -+" +
-           numberString(options.crab_step * 1e6) + " um of slider, " +
-           numberString(c.crab_per_slider * 1e-6 * deg) + " deg per um");
-  }
+  calibrateCrab(config, options, c, report);
   source << "cruise " << options.cruise_fraction << " omega_b, pulses " << options.pulse_factor
          << " omega_b for " << options.pulse_duration << " s, " << options.pulses
          << " per schedule, windows " << options.window << " s, crab at +-"

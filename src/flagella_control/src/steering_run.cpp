@@ -139,6 +139,68 @@ struct RunView {
   std::function<void(double)> progress;  // simulated time after each step
 };
 
+// Widens the result's slider range [slider_low, slider_high] to the slider's position now.
+void trackSliderRange(const flagella::SimSession& session, SteeringRunResult& result) {
+  if (const flagella::Slider* slider = session.simulation().slider()) {
+    const double x = slider->state().position;
+    result.slider_low = std::isnan(result.slider_low) ? x : std::min(result.slider_low, x);
+    result.slider_high = std::isnan(result.slider_high) ? x : std::max(result.slider_high, x);
+  }
+}
+
+// Updates each waypoint's closest approach and the next one's reach time from the head position.
+void scoreWaypoints(const Vec3& head_position, double time, double tolerance,
+                    std::vector<double>& miss, SteeringRunResult& result) {
+  const auto next = static_cast<std::size_t>(result.reached_in_order);
+  for (std::size_t i = 0; i < miss.size(); ++i) {
+    const double distance = (head_position - result.waypoints[i]).norm();
+    miss[i] = std::min(miss[i], distance);
+    if (i == next && distance <= tolerance) {
+      result.reach_time[i] = time;
+      ++result.reached_in_order;
+    }
+  }
+}
+
+// The recorded sample of the session now (the controller's estimates unless waiting).
+SteeringSample sampleOf(const flagella::SimSession& session, const flagella::RodSnapshot& s,
+                        SteeringMode mode, bool waiting, const RunView& view) {
+  SteeringSample sample;
+  sample.time = session.time();
+  sample.position = s.head_position;
+  sample.estimate = s.head_position;
+  sample.forward = -(s.head_orientation * Vec3::UnitZ());
+  sample.estimated_forward = sample.forward;
+  if (view.annotate && !waiting) view.annotate(sample);
+  sample.motor = session.health().motor_applied;
+  sample.slider = session.health().slider_position;
+  sample.mode = mode;
+  return sample;
+}
+
+// Fills the result's totals from the misses, the harness report and the session's health.
+void finishResult(const flagella::SimSession& session, const HarnessReport& report,
+                  const std::vector<double>& miss, double tolerance, SteeringMode last_mode,
+                  const RunView& view, SteeringRunResult& result) {
+  result.total = static_cast<int>(miss.size());
+  result.tolerance = tolerance;
+  result.miss = miss;
+  for (double m : miss) {
+    result.max_miss = std::max(result.max_miss, m);
+    if (m <= tolerance) ++result.reached;
+  }
+  result.finished = last_mode == SteeringMode::Finished;
+  result.time = report.sim_time;
+  result.wall_seconds = report.wall_seconds;
+  result.halted = report.halted;
+  const flagella::SessionHealth health = session.health();
+  if (report.halted) result.halt_reason = health.message;
+  result.subdivided_steps = health.subdivided_steps;
+  result.damped_steps = health.damped_steps;
+  result.motor_stop_retries = health.solver_failures;
+  result.cycles = view.cycles ? view.cycles() : 0;
+}
+
 // Steps the session with `core` until it finishes or faults, scoring the true head path against
 // the waypoints (placed once `mode` leaves Waiting; `waypoints_of` reads them then, and its
 // size before is the mission's). A waypoint never placed counts as missed (miss infinite).
@@ -157,11 +219,7 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
   SteeringMode last_mode = SteeringMode::Waiting;
   const auto after_step = [&]() {
     if (view.progress) view.progress(session.time());
-    if (const flagella::Slider* slider = session.simulation().slider()) {
-      const double x = slider->state().position;
-      result.slider_low = std::isnan(result.slider_low) ? x : std::min(result.slider_low, x);
-      result.slider_high = std::isnan(result.slider_high) ? x : std::max(result.slider_high, x);
-    }
+    trackSliderRange(session, result);
     const SteeringMode mode = view.mode();
     if (mode != last_mode) {
       result.modes.emplace_back(session.time(), mode);
@@ -177,50 +235,16 @@ SteeringRunResult runScored(const flagella::SimulationConfig& config,
         result.waypoints = waypoints_of();
         placed = true;
       }
-      const auto next = static_cast<std::size_t>(result.reached_in_order);
-      for (std::size_t i = 0; i < miss.size(); ++i) {
-        const double distance = (s.head_position - result.waypoints[i]).norm();
-        miss[i] = std::min(miss[i], distance);
-        if (i == next && distance <= tolerance) {
-          result.reach_time[i] = session.time();
-          ++result.reached_in_order;
-        }
-      }
+      scoreWaypoints(s.head_position, session.time(), tolerance, miss, result);
     }
     if (sample_due) {
       next_sample += sample_interval;
-      SteeringSample sample;
-      sample.time = session.time();
-      sample.position = s.head_position;
-      sample.estimate = s.head_position;
-      sample.forward = -(s.head_orientation * Vec3::UnitZ());
-      sample.estimated_forward = sample.forward;
-      if (view.annotate && !waiting) view.annotate(sample);
-      sample.motor = session.health().motor_applied;
-      sample.slider = session.health().slider_position;
-      sample.mode = mode;
-      result.samples.push_back(sample);
+      result.samples.push_back(sampleOf(session, s, mode, waiting, view));
     }
     if (mode == SteeringMode::Finished || mode == SteeringMode::Fault) harness.requestStop();
   };
   const HarnessReport report = harness.run(max_duration, after_step);
-  result.total = static_cast<int>(miss.size());
-  result.tolerance = tolerance;
-  result.miss = miss;
-  for (double m : miss) {
-    result.max_miss = std::max(result.max_miss, m);
-    if (m <= tolerance) ++result.reached;
-  }
-  result.finished = last_mode == SteeringMode::Finished;
-  result.time = report.sim_time;
-  result.wall_seconds = report.wall_seconds;
-  result.halted = report.halted;
-  const flagella::SessionHealth health = session.health();
-  if (report.halted) result.halt_reason = health.message;
-  result.subdivided_steps = health.subdivided_steps;
-  result.damped_steps = health.damped_steps;
-  result.motor_stop_retries = health.solver_failures;
-  result.cycles = view.cycles ? view.cycles() : 0;
+  finishResult(session, report, miss, tolerance, last_mode, view, result);
   return result;
 }
 

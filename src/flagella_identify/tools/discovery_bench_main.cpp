@@ -35,89 +35,110 @@ bool correct(const DiscoveryCase& c, const IdentifyResult& r) {
   return named == hidden;
 }
 
+/// The command line's values.
+struct BenchArgs {
+  std::vector<std::string> cases, candidates;
+  int first_seed = 1, seeds = 3, jobs = 2;
+  std::string config = FLAGELLA_CONFIG_DIR "/identification/granular_design1_coarse.yaml";
+  bool verbose = false, before = false;
+};
+
+/// Declares the command-line options, bound to `a`.
+void addOptions(CLI::App& app, BenchArgs& a) {
+  app.add_option("--cases", a.cases, "cases (default: all)")->delimiter(',');
+  app.add_option("--first-seed", a.first_seed)->capture_default_str();
+  app.add_option("--seeds", a.seeds, "seeds per case")->capture_default_str();
+  app.add_option("--jobs", a.jobs)->capture_default_str();
+  app.add_option("--config", a.config)->capture_default_str();
+  app.add_option("--candidates", a.candidates, "candidate effects (default: the standard list)")
+      ->delimiter(',');
+  app.add_flag("--verbose", a.verbose, "progress of every identification");
+  app.add_flag("--without-small-data-methods", a.before,
+               "without cross validation, power check and continuation fits (the pipeline "
+               "before them, for a before/after table)");
+}
+
+/// One case's runs so far.
+struct Tally {
+  int runs = 0, correct = 0, false_names = 0;
+  double seconds = 0.0;
+  std::vector<double> gains;
+  std::vector<std::string> outcomes;
+};
+
+/// Generates and identifies case `c` with one seed, prints its line and adds it to its tally.
+void runSeed(const BenchArgs& a, const DiscoveryCase& c, const std::string& name, int seed,
+             const YAML::Node& baseline, std::map<std::string, Tally>& tally) {
+  const auto start = std::chrono::steady_clock::now();
+  EvaluatorOptions eo;
+  eo.jobs = a.jobs;
+  GeneratedCase g = generateCase(c, baseline, a.config, seed, eo);
+  IdentifyOptions o;
+  o.free = caseFreeParameters();
+  o.candidates = a.candidates;
+  o.evaluator.jobs = a.jobs;
+  o.cross_validation = o.power_check = o.continuation = !a.before;
+  if (a.verbose) o.progress = [](const std::string& l) { std::cout << "    " << l << "\n"; };
+  Identification id(g.data, baseline, a.config, o);
+  const IdentifyResult r = id.run();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  Tally& t = tally[name];
+  ++t.runs;
+  const bool ok = correct(c, r);
+  t.correct += ok;
+  t.seconds += seconds;
+  for (const std::string& n : r.named)
+    if (std::find(c.hidden.begin(), c.hidden.end(), n) == c.hidden.end()) ++t.false_names;
+  std::string named;
+  for (const std::string& n : r.named) named += (named.empty() ? "" : "+") + n;
+  if (r.verdict == Verdict::kNamedCause) t.gains.push_back(r.gain);
+  std::printf(
+      "%-26s seed %2d: %-5s %-28s named [%s] gain %5.1f %%  before RMS z %.2f  "
+      "(%.0f s)\n",
+      name.c_str(), seed, ok ? "OK" : "WRONG", verdictText(r.verdict).c_str(), named.c_str(),
+      100.0 * r.gain, r.baseline_diagnosis.rms_z, seconds);
+  if (!ok || a.verbose)
+    std::printf("    truth: %s\n    %s\n", g.description.c_str(), r.summary.c_str());
+  std::fflush(stdout);
+}
+
+/// Prints the detection table (markdown), one row per case.
+void printTable(const std::vector<std::string>& cases, std::map<std::string, Tally>& tally) {
+  std::printf(
+      "\n| case | runs | right | false names | median gain | mean time |\n"
+      "|---|---|---|---|---|---|\n");
+  for (const std::string& name : cases) {
+    Tally& t = tally[name];
+    std::sort(t.gains.begin(), t.gains.end());
+    const std::string gain =
+        t.gains.empty()
+            ? "-"
+            : std::to_string(static_cast<int>(std::lround(100.0 * t.gains[t.gains.size() / 2]))) +
+                  " %";
+    std::printf("| %s | %d | %d | %d | %s | %.0f s |\n", name.c_str(), t.runs, t.correct,
+                t.false_names, gain.c_str(), t.seconds / std::max(1, t.runs));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"flagella_discovery_bench: detection table of the model-discovery tool"};
-  std::vector<std::string> cases;
-  int first_seed = 1, seeds = 3, jobs = 2;
-  std::string config = FLAGELLA_CONFIG_DIR "/identification/granular_design1_coarse.yaml";
-  bool verbose = false, before = false;
-  app.add_option("--cases", cases, "cases (default: all)")->delimiter(',');
-  app.add_option("--first-seed", first_seed)->capture_default_str();
-  app.add_option("--seeds", seeds, "seeds per case")->capture_default_str();
-  app.add_option("--jobs", jobs)->capture_default_str();
-  app.add_option("--config", config)->capture_default_str();
-  std::vector<std::string> candidates;
-  app.add_option("--candidates", candidates, "candidate effects (default: the standard list)")
-      ->delimiter(',');
-  app.add_flag("--verbose", verbose, "progress of every identification");
-  app.add_flag("--without-small-data-methods", before,
-               "without cross validation, power check and continuation fits (the pipeline "
-               "before them, for a before/after table)");
+  BenchArgs a;
+  addOptions(app, a);
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
-  if (cases.empty())
-    for (const DiscoveryCase& c : discoveryCases()) cases.push_back(c.name);
+  if (a.cases.empty())
+    for (const DiscoveryCase& c : discoveryCases()) a.cases.push_back(c.name);
   return flagella::cli::runGuarded([&] {
-    const YAML::Node baseline = loadConfigTree(config, {});
-    struct Tally {
-      int runs = 0, correct = 0, false_names = 0;
-      double seconds = 0.0;
-      std::vector<double> gains;
-      std::vector<std::string> outcomes;
-    };
+    const YAML::Node baseline = loadConfigTree(a.config, {});
     std::map<std::string, Tally> tally;
-    for (const std::string& name : cases) {
+    for (const std::string& name : a.cases) {
       const DiscoveryCase& c = discoveryCaseByName(name);
-      for (int seed = first_seed; seed < first_seed + seeds; ++seed) {
-        const auto start = std::chrono::steady_clock::now();
-        EvaluatorOptions eo;
-        eo.jobs = jobs;
-        GeneratedCase g = generateCase(c, baseline, config, seed, eo);
-        IdentifyOptions o;
-        o.free = caseFreeParameters();
-        o.candidates = candidates;
-        o.evaluator.jobs = jobs;
-        o.cross_validation = o.power_check = o.continuation = !before;
-        if (verbose) o.progress = [](const std::string& l) { std::cout << "    " << l << "\n"; };
-        Identification id(g.data, baseline, config, o);
-        const IdentifyResult r = id.run();
-        const double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        Tally& t = tally[name];
-        ++t.runs;
-        const bool ok = correct(c, r);
-        t.correct += ok;
-        t.seconds += seconds;
-        for (const std::string& n : r.named)
-          if (std::find(c.hidden.begin(), c.hidden.end(), n) == c.hidden.end()) ++t.false_names;
-        std::string named;
-        for (const std::string& n : r.named) named += (named.empty() ? "" : "+") + n;
-        if (r.verdict == Verdict::kNamedCause) t.gains.push_back(r.gain);
-        std::printf(
-            "%-26s seed %2d: %-5s %-28s named [%s] gain %5.1f %%  before RMS z %.2f  "
-            "(%.0f s)\n",
-            name.c_str(), seed, ok ? "OK" : "WRONG", verdictText(r.verdict).c_str(), named.c_str(),
-            100.0 * r.gain, r.baseline_diagnosis.rms_z, seconds);
-        if (!ok || verbose)
-          std::printf("    truth: %s\n    %s\n", g.description.c_str(), r.summary.c_str());
-        std::fflush(stdout);
-      }
+      for (int seed = a.first_seed; seed < a.first_seed + a.seeds; ++seed)
+        runSeed(a, c, name, seed, baseline, tally);
     }
-    std::printf(
-        "\n| case | runs | right | false names | median gain | mean time |\n"
-        "|---|---|---|---|---|---|\n");
-    for (const std::string& name : cases) {
-      Tally& t = tally[name];
-      std::sort(t.gains.begin(), t.gains.end());
-      const std::string gain =
-          t.gains.empty()
-              ? "-"
-              : std::to_string(static_cast<int>(std::lround(100.0 * t.gains[t.gains.size() / 2]))) +
-                    " %";
-      std::printf("| %s | %d | %d | %d | %s | %.0f s |\n", name.c_str(), t.runs, t.correct,
-                  t.false_names, gain.c_str(), t.seconds / std::max(1, t.runs));
-    }
+    printTable(a.cases, tally);
     return 0;
   });
 }

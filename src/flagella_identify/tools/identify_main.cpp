@@ -67,40 +67,84 @@ struct ScratchFolder {
   }
 };
 
+/// The command line's values.
+struct IdentifyArgs {
+  std::vector<std::string> data_files, overrides, free, candidates;
+  std::string config, out_dir = "out/identify";
+  int jobs = flagella::defaultJobs();
+  bool quiet = false, no_plot = false, calibrate_only = false;
+};
+
+/// Declares the command-line options, bound to `a`.
+void addOptions(CLI::App& app, IdentifyArgs& a) {
+  app.add_option("--data", a.data_files,
+                 "measured data: metadata YAML (steady_state or time_series; CSV or bag), "
+                 "repeatable")
+      ->required();
+  app.add_option("--config", a.config,
+                 "baseline robot config (YAML), e.g. config/granular_design1.yaml")
+      ->required();
+  app.add_option("--free", a.free,
+                 "baseline config fields to fit (default: medium.viscosity, "
+                 "effects.stokes_head.C_t, effects.stokes_head.C_r where present)")
+      ->delimiter(',');
+  app.add_option("--candidates", a.candidates, "candidate effects to consider (default: all)")
+      ->delimiter(',');
+  app.add_option("--set", a.overrides,
+                 "override a baseline config field, e.g. robot.tail_edges=8 (repeatable)");
+  app.add_option("--out", a.out_dir, "report directory")->capture_default_str();
+  app.add_option("--jobs", a.jobs, "simulations run in parallel")
+      ->check(CLI::Range(1, flagella::kMaxJobs))
+      ->capture_default_str();
+  app.add_flag("--calibrate-only", a.calibrate_only,
+               "only fit the free parameters on every experiment (no held-out split, no "
+               "candidates): writes calibration.json, calibration.md, calibrated_config.yaml");
+  app.add_flag("--no-plot", a.no_plot, "do not draw report.png");
+  app.add_flag("--quiet", a.quiet, "no progress output");
+}
+
+/// Draws report.png with the plotting script; warns (the report stands without it) on failure.
+void plotReport(const std::string& out_dir) {
+  const std::string cmd =
+      "python3 " FLAGELLA_SCRIPTS_DIR "/plot_identification.py '" + out_dir + "'";
+  if (std::system(cmd.c_str()) != 0)
+    std::cerr << "warning: plotting failed (" << cmd << "); the report is complete without it\n";
+}
+
+/// The whole identification: fit, diagnose, select, report; prints the verdict and the files.
+int runIdentification(const IdentifyArgs& a, MeasuredData data, const YAML::Node& baseline,
+                      const std::function<void(const std::string&)>& progress,
+                      const std::string& command_line) {
+  IdentifyOptions options;
+  options.free = a.free.empty() ? defaultFree(baseline) : a.free;
+  options.candidates = a.candidates;
+  options.evaluator.jobs = a.jobs;
+  options.progress = progress;
+  options.fit.progress = progress;
+  progress("read " + std::to_string(data.tables.size()) + " table(s) and " +
+           std::to_string(data.series.size()) + " time series; fitting " +
+           std::to_string(options.free.size()) + " baseline parameters");
+  Identification identification(std::move(data), baseline, a.config, options);
+  const IdentifyResult result = identification.run();
+  ReportInputs inputs;
+  inputs.data_files = a.data_files;
+  inputs.baseline_config = a.config;
+  inputs.command_line = command_line;
+  const std::vector<std::string> files = writeReport(identification, result, inputs, a.out_dir);
+  if (!a.no_plot) plotReport(a.out_dir);
+  std::cout << "\nverdict: " << verdictText(result.verdict) << "\n" << result.summary << "\n";
+  for (const std::string& f : files) std::cout << "wrote " << f << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
       "flagella_identify: calibrate a robot config on measured data, diagnose what it gets "
       "wrong, name the physical effect that explains it, and report the held-out gain"};
-  std::vector<std::string> data_files, overrides, free, candidates;
-  std::string config, out_dir = "out/identify";
-  int jobs = flagella::defaultJobs();
-  bool quiet = false, no_plot = false, calibrate_only = false;
-  app.add_option("--data", data_files,
-                 "measured data: metadata YAML (steady_state or time_series; CSV or bag), "
-                 "repeatable")
-      ->required();
-  app.add_option("--config", config,
-                 "baseline robot config (YAML), e.g. config/granular_design1.yaml")
-      ->required();
-  app.add_option("--free", free,
-                 "baseline config fields to fit (default: medium.viscosity, "
-                 "effects.stokes_head.C_t, effects.stokes_head.C_r where present)")
-      ->delimiter(',');
-  app.add_option("--candidates", candidates, "candidate effects to consider (default: all)")
-      ->delimiter(',');
-  app.add_option("--set", overrides,
-                 "override a baseline config field, e.g. robot.tail_edges=8 (repeatable)");
-  app.add_option("--out", out_dir, "report directory")->capture_default_str();
-  app.add_option("--jobs", jobs, "simulations run in parallel")
-      ->check(CLI::Range(1, flagella::kMaxJobs))
-      ->capture_default_str();
-  app.add_flag("--calibrate-only", calibrate_only,
-               "only fit the free parameters on every experiment (no held-out split, no "
-               "candidates): writes calibration.json, calibration.md, calibrated_config.yaml");
-  app.add_flag("--no-plot", no_plot, "do not draw report.png");
-  app.add_flag("--quiet", quiet, "no progress output");
+  IdentifyArgs a;
+  addOptions(app, a);
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
   // Under mpirun every rank runs the same fit, its model runs spread over the ranks
   // (distributed_for.h); rank 0 reports, the others write into a scratch folder, removed at exit.
@@ -108,57 +152,34 @@ int main(int argc, char** argv) {
   std::unique_ptr<ScratchFolder> scratch;
   if (!flagella::isRootRank()) {
     scratch = std::make_unique<ScratchFolder>();
-    out_dir = scratch->path;
-    quiet = no_plot = true;
-    if (!std::freopen("/dev/null", "w", stdout)) quiet = true;  // rank 0 prints the report
+    a.out_dir = scratch->path;
+    a.quiet = a.no_plot = true;
+    if (!std::freopen("/dev/null", "w", stdout)) a.quiet = true;  // rank 0 prints the report
   }
 
   const auto start = std::chrono::steady_clock::now();
   auto progress = [&](const std::string& line) {
-    if (quiet) return;
+    if (a.quiet) return;
     const double s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::cout << "[" << std::fixed << std::setprecision(1) << s << " s] " << line << std::endl;
   };
   return flagella::cli::runGuarded([&] {
     enableBagInput();
-    MeasuredData data = readMeasuredData(data_files);
-    const YAML::Node baseline = loadConfigTree(config, overrides);
-    for (const std::string& name : candidates) candidateByName(name);  // validates the names
-    if (calibrate_only) {
+    MeasuredData data = readMeasuredData(a.data_files);
+    const YAML::Node baseline = loadConfigTree(a.config, a.overrides);
+    for (const std::string& name : a.candidates) candidateByName(name);  // validates the names
+    if (a.calibrate_only) {
       CalibrationOptions c;
-      c.free = free.empty() ? defaultFree(baseline) : free;
-      c.evaluator.jobs = jobs;
+      c.free = a.free.empty() ? defaultFree(baseline) : a.free;
+      c.evaluator.jobs = a.jobs;
       c.progress = progress;
       c.fit.progress = progress;
-      runCalibration(data, baseline, config, data_files, c, out_dir);
+      runCalibration(data, baseline, a.config, a.data_files, c, a.out_dir);
       return 0;
     }
-    IdentifyOptions options;
-    options.free = free.empty() ? defaultFree(baseline) : free;
-    options.candidates = candidates;
-    options.evaluator.jobs = jobs;
-    options.progress = progress;
-    options.fit.progress = progress;
-    progress("read " + std::to_string(data.tables.size()) + " table(s) and " +
-             std::to_string(data.series.size()) + " time series; fitting " +
-             std::to_string(options.free.size()) + " baseline parameters");
-    Identification identification(std::move(data), baseline, config, options);
-    const IdentifyResult result = identification.run();
-    ReportInputs inputs;
-    inputs.data_files = data_files;
-    inputs.baseline_config = config;
-    for (int i = 0; i < argc; ++i) inputs.command_line += (i ? " " : "") + std::string(argv[i]);
-    const std::vector<std::string> files = writeReport(identification, result, inputs, out_dir);
-    if (!no_plot) {
-      const std::string cmd =
-          "python3 " FLAGELLA_SCRIPTS_DIR "/plot_identification.py '" + out_dir + "'";
-      if (std::system(cmd.c_str()) != 0)
-        std::cerr << "warning: plotting failed (" << cmd
-                  << "); the report is complete without it\n";
-    }
-    std::cout << "\nverdict: " << verdictText(result.verdict) << "\n" << result.summary << "\n";
-    for (const std::string& f : files) std::cout << "wrote " << f << "\n";
-    return 0;
+    std::string command_line;
+    for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
+    return runIdentification(a, std::move(data), baseline, progress, command_line);
   });
 }

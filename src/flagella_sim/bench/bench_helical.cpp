@@ -64,6 +64,111 @@ double secondsPerStep(Simulation& sim, long warm, long steps) {
   return per[per.size() / 2];
 }
 
+// Wall time [s] of each part of one step in the steady cruise.
+struct PartCosts {
+  double build = 0.0, factor = 0.0, invert = 0.0, elastic = 0.0, newton = 0.0, solve = 0.0,
+         gmres_product = 0.0, residual_solve = 0.0;
+};
+
+// Counts and median wall time over 100 profiled steps of the steady cruise.
+struct SteadySteps {
+  StepProfile profile;
+  double step = 0.0, per_step = 0.0, reused = 0.0;
+};
+
+// The RSS effect's nodes as a polyline of the current state, and their position DOFs.
+void rssLine(const RssHydrodynamics& rss, const RodState& s, rss::Polyline& line,
+             std::vector<int>& dofs) {
+  for (int node : rss.nodes()) {
+    line.push_back(nodePosition(s.q, node));
+    for (int a = 0; a < 3; ++a) dofs.push_back(RodNetwork::positionIndex(node) + a);
+  }
+}
+
+// Times the elastic assembly (inertia diagonal, stretching, bend-twist) into `assembler`.
+double timeElasticAssembly(const RodNetwork& net, const RodState& s, SparseAssembler& assembler) {
+  VecX gradient = VecX::Zero(net.ndof());
+  return secondsOf(
+      [&] {
+        assembler.begin();
+        gradient.setZero();
+        for (int i = 0; i < net.ndof(); ++i) assembler.add(i, i, net.lumped_mass(i) / 1e-4);
+        addStretchingGradientHessian(net, s.frames, gradient, &assembler);
+        addBendTwistGradientHessian(net, s.q, s.frames, gradient, &assembler, {});
+        assembler.finish();
+      },
+      50);
+}
+
+// Times the dense Newton system's factorisation and solve and one GMRES product.
+void timeNewtonParts(const SimulationConfig& config, const RodNetwork& net,
+                     const std::vector<int>& dofs, const rss::RssSolver& solver,
+                     const SparseMatrix& jacobian, PartCosts& costs) {
+  // The dense Newton system as the stepper builds it: sparse part plus the RSS block, right-
+  // preconditioned by Ablk (no inverse), factored.
+  const VecX weights = solver.dragRowWeights();
+  DenseNewtonSystem system;
+  costs.newton = secondsOf(
+      [&] {
+        system.begin(jacobian, net.fixed_dof);
+        system.addScaledInverse(dofs, solver, weights, -1.0 / config.dt);
+        system.factorize(1e-15);
+      },
+      20);
+  const VecX rhs = VecX::Ones(net.ndof());
+  costs.solve = secondsOf([&] { (void)system.solve(rhs); }, 50);
+  // One GMRES product as the stepper takes it: J v without J (sparse part, one RSS solve) and
+  // the kept factorisation's solve.
+  DenseJacobianProduct product;
+  product.begin(jacobian, net.fixed_dof);
+  product.addScaledInverse(dofs, solver, weights, -1.0 / config.dt);
+  VecX out(net.ndof());
+  costs.gmres_product = secondsOf([&] { product.apply(system.solve(rhs), out); }, 50);
+}
+
+// Profiles 100 steps of a fresh simulation of `config` after its steady-cruise start.
+SteadySteps profileSteadySteps(const SimulationConfig& config) {
+  SteadySteps out;
+  Simulation timed(config);
+  for (long k = 0; k < std::lround(kSteadyAfter / config.dt); ++k) timed.step();
+  timed.setProfile(&out.profile);
+  const auto* timed_rss = dynamic_cast<const RssHydrodynamics*>(timed.stepper().findEffect("rss"));
+  const long rss_steps = timed_rss->stepsAfterFirst(), rss_reused = timed_rss->reusedSteps();
+  const int factorizations = timed.stepper().totalFactorizations();
+  out.step = secondsPerStep(timed, 0, 100);
+  timed.setProfile(nullptr);
+  out.per_step = (timed.stepper().totalFactorizations() - factorizations) / 100.0;
+  out.reused = double(timed_rss->reusedSteps() - rss_reused) /
+               double(std::max(1L, timed_rss->stepsAfterFirst() - rss_steps));
+  return out;
+}
+
+// Prints the per-part costs and the per-step counts of the breakdown.
+void printBreakdown(const PartCosts& c, const SteadySteps& steps, size_t nodes, int ndof) {
+  std::printf("per-part cost in the steady 10 rpm cruise (%zu RSS nodes, %d DOFs):\n", nodes, ndof);
+  std::printf(
+      "  RSS matrix build          %9.1f us  (when the nodes are no rigid motion of the last)\n",
+      1e6 * c.build);
+  std::printf("  RSS LU factorisation      %9.1f us  (the same)\n", 1e6 * c.factor);
+  std::printf("  RSS force (LU solve)      %9.1f us  (per residual evaluation)\n",
+              1e6 * c.residual_solve);
+  std::printf("  elastic assembly          %9.1f us  (per Jacobian)\n", 1e6 * c.elastic);
+  std::printf(
+      "  dense Newton system       %9.1f us  (per factorisation: build, precondition, LU)\n",
+      1e6 * c.newton);
+  std::printf("  dense Newton solve        %9.1f us  (per direct update)\n", 1e6 * c.solve);
+  std::printf("  GMRES product             %9.1f us  (J v and one preconditioner solve)\n",
+              1e6 * c.gmres_product);
+  std::printf("  (drag matrix by inverse   %9.1f us  not needed: the system is preconditioned)\n",
+              1e6 * c.invert);
+  std::printf(
+      "per step over 100 steps: %.2f Jacobians, %.3f factorisations, %.2f updates, "
+      "%.2f GMRES products; RSS factorisation reused rotated on %.0f %% of steps\n",
+      steps.profile.jacobians / 100.0, steps.per_step, steps.profile.updates / 100.0,
+      steps.profile.krylov_iterations / 100.0, 100.0 * steps.reused);
+  std::printf("  whole step (median)       %9.1f us\n", 1e6 * steps.step);
+}
+
 void breakdown(const SimulationConfig& config) {
   Simulation sim(config);
   for (long k = 0; k < std::lround(kSteadyAfter / config.dt); ++k) sim.step();  // steady cruise
@@ -76,87 +181,21 @@ void breakdown(const SimulationConfig& config) {
   }
   rss::Polyline line;
   std::vector<int> dofs;
-  for (int node : rss->nodes()) {
-    line.push_back(nodePosition(s.q, node));
-    for (int a = 0; a < 3; ++a) dofs.push_back(RodNetwork::positionIndex(node) + a);
-  }
+  rssLine(*rss, s, line, dofs);
+  PartCosts costs;
   const double eps = rss->parameters().get("eps");
   MatX ablk;
-  const double build = secondsOf([&] { ablk = rss::assembleRssMatrix(line, eps); }, 20);
+  costs.build = secondsOf([&] { ablk = rss::assembleRssMatrix(line, eps); }, 20);
   DenseLuSolver lu;
-  const double factor = secondsOf([&] { lu.factorize(ablk); }, 20);
+  costs.factor = secondsOf([&] { lu.factorize(ablk); }, 20);
   const rss::RssSolver solver(line, eps, sim.stepper().currentViscosity());
-  const double invert = secondsOf([&] { (void)solver.dragMatrix(); }, 10);
+  costs.invert = secondsOf([&] { (void)solver.dragMatrix(); }, 10);
   SparseAssembler assembler(net.ndof());
-  VecX gradient = VecX::Zero(net.ndof());
-  const double elastic = secondsOf(
-      [&] {
-        assembler.begin();
-        gradient.setZero();
-        for (int i = 0; i < net.ndof(); ++i) assembler.add(i, i, net.lumped_mass(i) / 1e-4);
-        addStretchingGradientHessian(net, s.frames, gradient, &assembler);
-        addBendTwistGradientHessian(net, s.q, s.frames, gradient, &assembler, {});
-        assembler.finish();
-      },
-      50);
-  // The dense Newton system as the stepper builds it: sparse part plus the RSS block, right-
-  // preconditioned by Ablk (no inverse), factored.
-  const SparseMatrix& jacobian = assembler.matrix();
-  const VecX weights = solver.dragRowWeights();
-  DenseNewtonSystem system;
-  const double newton = secondsOf(
-      [&] {
-        system.begin(jacobian, net.fixed_dof);
-        system.addScaledInverse(dofs, solver, weights, -1.0 / config.dt);
-        system.factorize(1e-15);
-      },
-      20);
-  const VecX rhs = VecX::Ones(net.ndof());
-  const double solve = secondsOf([&] { (void)system.solve(rhs); }, 50);
-  // One GMRES product as the stepper takes it: J v without J (sparse part, one RSS solve) and
-  // the kept factorisation's solve.
-  DenseJacobianProduct product;
-  product.begin(jacobian, net.fixed_dof);
-  product.addScaledInverse(dofs, solver, weights, -1.0 / config.dt);
-  VecX out(net.ndof());
-  const double gmres_product = secondsOf([&] { product.apply(system.solve(rhs), out); }, 50);
-  const double residual_solve =
+  costs.elastic = timeElasticAssembly(net, s, assembler);
+  timeNewtonParts(config, net, dofs, solver, assembler.matrix(), costs);
+  costs.residual_solve =
       secondsOf([&] { (void)solver.nodalForces(VecX::Ones(3 * line.size())); }, 50);
-  Simulation timed(config);
-  for (long k = 0; k < std::lround(kSteadyAfter / config.dt); ++k) timed.step();
-  StepProfile profile;
-  timed.setProfile(&profile);
-  const auto* timed_rss = dynamic_cast<const RssHydrodynamics*>(timed.stepper().findEffect("rss"));
-  const long rss_steps = timed_rss->stepsAfterFirst(), rss_reused = timed_rss->reusedSteps();
-  const int factorizations = timed.stepper().totalFactorizations();
-  const double step = secondsPerStep(timed, 0, 100);
-  timed.setProfile(nullptr);
-  const double per_step = (timed.stepper().totalFactorizations() - factorizations) / 100.0;
-  const double reused = double(timed_rss->reusedSteps() - rss_reused) /
-                        double(std::max(1L, timed_rss->stepsAfterFirst() - rss_steps));
-  std::printf("per-part cost in the steady 10 rpm cruise (%zu RSS nodes, %d DOFs):\n", line.size(),
-              net.ndof());
-  std::printf(
-      "  RSS matrix build          %9.1f us  (when the nodes are no rigid motion of the last)\n",
-      1e6 * build);
-  std::printf("  RSS LU factorisation      %9.1f us  (the same)\n", 1e6 * factor);
-  std::printf("  RSS force (LU solve)      %9.1f us  (per residual evaluation)\n",
-              1e6 * residual_solve);
-  std::printf("  elastic assembly          %9.1f us  (per Jacobian)\n", 1e6 * elastic);
-  std::printf(
-      "  dense Newton system       %9.1f us  (per factorisation: build, precondition, LU)\n",
-      1e6 * newton);
-  std::printf("  dense Newton solve        %9.1f us  (per direct update)\n", 1e6 * solve);
-  std::printf("  GMRES product             %9.1f us  (J v and one preconditioner solve)\n",
-              1e6 * gmres_product);
-  std::printf("  (drag matrix by inverse   %9.1f us  not needed: the system is preconditioned)\n",
-              1e6 * invert);
-  std::printf(
-      "per step over 100 steps: %.2f Jacobians, %.3f factorisations, %.2f updates, "
-      "%.2f GMRES products; RSS factorisation reused rotated on %.0f %% of steps\n",
-      profile.jacobians / 100.0, per_step, profile.updates / 100.0,
-      profile.krylov_iterations / 100.0, 100.0 * reused);
-  std::printf("  whole step (median)       %9.1f us\n", 1e6 * step);
+  printBreakdown(costs, profileSteadySteps(config), line.size(), net.ndof());
 }
 
 // Per-step cost of each part (StepProfile) over `steps` steps of a running simulation.

@@ -52,8 +52,10 @@ const char* toolName(SweepTool tool) {
   return "?";
 }
 
-SweepSpec loadSweepSpec(const std::string& path) {
-  const YAML::Node root = loadSingleDocument(path);
+namespace {
+
+// The 'sweep' map of the file's root, after checking the root's and the map's keys.
+YAML::Node sweepSection(const std::string& path, const YAML::Node& root) {
   for (const auto& kv : root)
     if (kv.first.as<std::string>() != "sweep")
       fail(path, kv.first.as<std::string>(), "unknown key (the file holds one map, 'sweep')");
@@ -65,20 +67,102 @@ SweepSpec loadSweepSpec(const std::string& path) {
     if (std::find(known.begin(), known.end(), key) == known.end())
       fail(path, "sweep." + key, "unknown key (known: tool, config, args, grid, points)");
   }
+  return s;
+}
+
+// The tool named by sweep.tool.
+SweepTool readTool(const std::string& path, const YAML::Node& s) {
+  if (!s["tool"]) fail(path, "sweep.tool", "missing (run, buckling or steer)");
+  const std::string tool = scalarText(path, "sweep.tool", s["tool"]);
+  if (tool == "run")
+    return SweepTool::Run;
+  else if (tool == "buckling")
+    return SweepTool::Buckling;
+  else if (tool == "steer")
+    return SweepTool::Steer;
+  else
+    fail(path, "sweep.tool", "must be run, buckling or steer, got '" + tool + "'");
+}
+
+// Fills spec.parameters and spec.points from sweep.grid (every combination, first field slowest).
+void readGrid(const std::string& path, const YAML::Node& grid, SweepSpec& spec) {
+  if (!grid.IsMap() || grid.size() == 0)
+    fail(path, "sweep.grid", "must be a map field: [values...] with at least one field");
+  std::vector<std::vector<std::string>> values;
+  long long count = 1;
+  for (const auto& kv : grid) {
+    const std::string field = kv.first.as<std::string>();
+    const std::string name = "sweep.grid." + field;
+    checkField(path, field);
+    if (!kv.second.IsSequence() || kv.second.size() == 0)
+      fail(path, name, "must be a non-empty list of values");
+    spec.parameters.push_back(field);
+    values.emplace_back();
+    for (std::size_t i = 0; i < kv.second.size(); ++i)
+      values.back().push_back(scalarText(path, name + "[" + std::to_string(i) + "]", kv.second[i]));
+    count *= static_cast<long long>(values.back().size());
+    if (count > kMaxPoints)
+      fail(path, "sweep.grid", "expands to more than " + std::to_string(kMaxPoints) + " points");
+  }
+  for (long long p = 0; p < count; ++p) {  // the first field varies slowest
+    PointSettings point;
+    long long rest = p;
+    std::vector<std::size_t> digit(values.size());
+    for (std::size_t k = values.size(); k-- > 0;) {
+      digit[k] = static_cast<std::size_t>(rest % values[k].size());
+      rest /= static_cast<long long>(values[k].size());
+    }
+    for (std::size_t k = 0; k < values.size(); ++k)
+      point.emplace_back(spec.parameters[k], values[k][digit[k]]);
+    spec.points.push_back(std::move(point));
+  }
+}
+
+// Fills spec.parameters and spec.points from the explicit list sweep.points.
+void readPoints(const std::string& path, const YAML::Node& points, SweepSpec& spec) {
+  if (!points.IsSequence() || points.size() == 0)
+    fail(path, "sweep.points", "must be a non-empty list of maps field: value");
+  if (points.size() > static_cast<std::size_t>(kMaxPoints))
+    fail(path, "sweep.points", "more than " + std::to_string(kMaxPoints) + " points");
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::string name = "sweep.points[" + std::to_string(i) + "]";
+    if (!points[i].IsMap() || points[i].size() == 0)
+      fail(path, name, "must be a non-empty map field: value");
+    PointSettings point;
+    for (const auto& kv : points[i]) {
+      const std::string field = kv.first.as<std::string>();
+      checkField(path, field);
+      for (const auto& [seen, value] : point)
+        if (seen == field) fail(path, name + "." + field, "given twice");
+      point.emplace_back(field, scalarText(path, name + "." + field, kv.second));
+      if (std::find(spec.parameters.begin(), spec.parameters.end(), field) == spec.parameters.end())
+        spec.parameters.push_back(field);
+    }
+    spec.points.push_back(std::move(point));
+  }
+}
+
+// Loads every point's config so that a bad field or value fails before anything runs.
+void checkPointsLoad(const std::string& path, const fs::path& config, const SweepSpec& spec) {
+  for (int i = 0; i < static_cast<int>(spec.points.size()); ++i) {
+    try {
+      loadSimulationConfig(config.string(), pointOverrides(spec, i));
+    } catch (const std::exception& e) {
+      fail(path, "point " + std::to_string(i), e.what());
+    }
+  }
+}
+
+}  // namespace
+
+SweepSpec loadSweepSpec(const std::string& path) {
+  const YAML::Node root = loadSingleDocument(path);
+  const YAML::Node s = sweepSection(path, root);
   SweepSpec spec;
   spec.file = path;
   spec.directory = fs::absolute(fs::path(path)).parent_path().lexically_normal().string();
 
-  if (!s["tool"]) fail(path, "sweep.tool", "missing (run, buckling or steer)");
-  const std::string tool = scalarText(path, "sweep.tool", s["tool"]);
-  if (tool == "run")
-    spec.tool = SweepTool::Run;
-  else if (tool == "buckling")
-    spec.tool = SweepTool::Buckling;
-  else if (tool == "steer")
-    spec.tool = SweepTool::Steer;
-  else
-    fail(path, "sweep.tool", "must be run, buckling or steer, got '" + tool + "'");
+  spec.tool = readTool(path, s);
 
   if (!s["config"]) fail(path, "sweep.config", "missing (the base config, relative to this file)");
   spec.config = scalarText(path, "sweep.config", s["config"]);
@@ -95,69 +179,12 @@ SweepSpec loadSweepSpec(const std::string& path) {
   const YAML::Node grid = s["grid"], points = s["points"];
   if (static_cast<bool>(grid) == static_cast<bool>(points))
     fail(path, "sweep", "needs exactly one of 'grid' and 'points'");
-  if (grid) {
-    if (!grid.IsMap() || grid.size() == 0)
-      fail(path, "sweep.grid", "must be a map field: [values...] with at least one field");
-    std::vector<std::vector<std::string>> values;
-    long long count = 1;
-    for (const auto& kv : grid) {
-      const std::string field = kv.first.as<std::string>();
-      const std::string name = "sweep.grid." + field;
-      checkField(path, field);
-      if (!kv.second.IsSequence() || kv.second.size() == 0)
-        fail(path, name, "must be a non-empty list of values");
-      spec.parameters.push_back(field);
-      values.emplace_back();
-      for (std::size_t i = 0; i < kv.second.size(); ++i)
-        values.back().push_back(
-            scalarText(path, name + "[" + std::to_string(i) + "]", kv.second[i]));
-      count *= static_cast<long long>(values.back().size());
-      if (count > kMaxPoints)
-        fail(path, "sweep.grid", "expands to more than " + std::to_string(kMaxPoints) + " points");
-    }
-    for (long long p = 0; p < count; ++p) {  // the first field varies slowest
-      PointSettings point;
-      long long rest = p;
-      std::vector<std::size_t> digit(values.size());
-      for (std::size_t k = values.size(); k-- > 0;) {
-        digit[k] = static_cast<std::size_t>(rest % values[k].size());
-        rest /= static_cast<long long>(values[k].size());
-      }
-      for (std::size_t k = 0; k < values.size(); ++k)
-        point.emplace_back(spec.parameters[k], values[k][digit[k]]);
-      spec.points.push_back(std::move(point));
-    }
-  } else {
-    if (!points.IsSequence() || points.size() == 0)
-      fail(path, "sweep.points", "must be a non-empty list of maps field: value");
-    if (points.size() > static_cast<std::size_t>(kMaxPoints))
-      fail(path, "sweep.points", "more than " + std::to_string(kMaxPoints) + " points");
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const std::string name = "sweep.points[" + std::to_string(i) + "]";
-      if (!points[i].IsMap() || points[i].size() == 0)
-        fail(path, name, "must be a non-empty map field: value");
-      PointSettings point;
-      for (const auto& kv : points[i]) {
-        const std::string field = kv.first.as<std::string>();
-        checkField(path, field);
-        for (const auto& [seen, value] : point)
-          if (seen == field) fail(path, name + "." + field, "given twice");
-        point.emplace_back(field, scalarText(path, name + "." + field, kv.second));
-        if (std::find(spec.parameters.begin(), spec.parameters.end(), field) ==
-            spec.parameters.end())
-          spec.parameters.push_back(field);
-      }
-      spec.points.push_back(std::move(point));
-    }
-  }
+  if (grid)
+    readGrid(path, grid, spec);
+  else
+    readPoints(path, points, spec);
   // Every point's config must load: a bad field or value fails here, before anything runs.
-  for (int i = 0; i < static_cast<int>(spec.points.size()); ++i) {
-    try {
-      loadSimulationConfig(config.string(), pointOverrides(spec, i));
-    } catch (const std::exception& e) {
-      fail(path, "point " + std::to_string(i), e.what());
-    }
-  }
+  checkPointsLoad(path, config, spec);
   return spec;
 }
 

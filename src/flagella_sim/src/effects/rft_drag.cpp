@@ -68,6 +68,75 @@ RftCoefficients RftDrag::coefficients(const TailNode& n, double viscosity) const
   return cached_[&n - nodes_.data()];
 }
 
+namespace {
+
+// A tail node's tangent s and its adjacent edges' oriented unit tangents and inverse lengths.
+struct NodeTangent {
+  Vec3 s = Vec3::Zero();
+  Vec3 t_in = Vec3::Zero(), t_out = Vec3::Zero();
+  double inv_len_in = 0.0, inv_len_out = 0.0;
+  int edge_count = 0;
+};
+
+// The node's unnormalised tangent s, mean of its adjacent edges' oriented tangents [CORR-4].
+NodeTangent nodeTangent(const ReferenceFrames& fr, bool has_in, int edge_in, double sign_in,
+                        bool has_out, int edge_out, double sign_out) {
+  NodeTangent g;
+  if (has_in) {
+    g.t_in = sign_in * fr.tangent[edge_in];
+    g.inv_len_in = 1.0 / fr.edge_length[edge_in];
+    g.s += g.t_in;
+    ++g.edge_count;
+  }
+  if (has_out) {
+    g.t_out = sign_out * fr.tangent[edge_out];
+    g.inv_len_out = 1.0 / fr.edge_length[edge_out];
+    g.s += g.t_out;
+    ++g.edge_count;
+  }
+  g.s *= 1.0 / g.edge_count;
+  return g;
+}
+
+// Velocity part of the node's own block, -(l/dt) [eta_p I + (eta_t - eta_p) t t^T].
+Mat3 velocityBlock(double l, double dt, double eta_t, double eta_p, const Vec3& that) {
+  // (The 3x3 blocks are written coefficient by coefficient: the same arithmetic as the matrix
+  // expressions, without their mixed scalar/packed temporaries.)
+  const double along = -(l / dt) * (eta_t - eta_p);
+  const double across = (l / dt) * eta_p;
+  Mat3 d_self;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) d_self(r, c) = (along * that(r)) * that(c);
+  for (int k = 0; k < 3; ++k) d_self(k, k) -= across;
+  return d_self;
+}
+
+// dF/ds = ds_scale ((t.v)(I - t t^T) + t w^T) with w = v - (t.v) t (docs/model.md 2).
+Mat3 forceTangentDerivative(const Vec3& that, const Vec3& v, double tv, double ds_scale) {
+  const Vec3 w = v - tv * that;
+  Mat3 dF_ds;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) dF_ds(r, c) = that(r) * (w(c) - tv * that(c));
+  for (int k = 0; k < 3; ++k) dF_ds(k, k) += tv;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) dF_ds(r, c) *= ds_scale;
+  return dF_ds;
+}
+
+// factor dF/ds (I - t_e t_e^T), without forming the projector, into `out`; d_self -= out.
+void projectedBlock(const Mat3& dF_ds, const Vec3& t_e, double factor, Mat3& out, Mat3& d_self) {
+  double u[3];
+  for (int r = 0; r < 3; ++r)
+    u[r] = (dF_ds(r, 0) * t_e(0) + dF_ds(r, 1) * t_e(1)) + dF_ds(r, 2) * t_e(2);
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) {
+      out(r, c) = (dF_ds(r, c) - u[r] * t_e(c)) * factor;
+      d_self(r, c) -= out(r, c);
+    }
+}
+
+}  // namespace
+
 void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const {
   // Edge tangents and lengths at ctx.q come with the frames (transported to q).
   const ReferenceFrames& fr = ctx.frames;
@@ -75,25 +144,10 @@ void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jaco
     const Vec3 x = nodePosition(ctx.q, n.node);
     // docs/model.md 2: node tangent s = (t^{j-1} + t^j)/2 normalised; single edge at the ends
     // [CORR-4]
-    Vec3 s = Vec3::Zero();
-    Vec3 t_in = Vec3::Zero(), t_out = Vec3::Zero();
-    double inv_len_in = 0.0, inv_len_out = 0.0;
-    int edge_count = 0;
-    if (n.prev >= 0) {
-      t_in = n.sign_in * fr.tangent[n.edge_in];
-      inv_len_in = 1.0 / fr.edge_length[n.edge_in];
-      s += t_in;
-      ++edge_count;
-    }
-    if (n.next >= 0) {
-      t_out = n.sign_out * fr.tangent[n.edge_out];
-      inv_len_out = 1.0 / fr.edge_length[n.edge_out];
-      s += t_out;
-      ++edge_count;
-    }
-    s *= 1.0 / edge_count;
-    const double inv_s_norm = 1.0 / s.norm();
-    const Vec3 that = s * inv_s_norm;
+    const NodeTangent g =
+        nodeTangent(fr, n.prev >= 0, n.edge_in, n.sign_in, n.next >= 0, n.edge_out, n.sign_out);
+    const double inv_s_norm = 1.0 / g.s.norm();
+    const Vec3 that = g.s * inv_s_norm;
     const RftCoefficients c = coefficients(n, ctx.viscosity);
     const double height = x.dot(ctx.medium.up);
     const double mu_factor = use_profile_ ? ctx.medium.profile.factor(height) : 1.0;
@@ -107,15 +161,8 @@ void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jaco
     force.segment<3>(3 * n.node) += F;
     if (!jacobian) continue;
 
-    // Velocity part: dF/dx_j = -(l/dt) [eta_p I + (eta_t - eta_p) t t^T]. (The 3x3 blocks are
-    // written coefficient by coefficient: the same arithmetic as the matrix expressions, without
-    // their mixed scalar/packed temporaries.)
-    const double along = -(l / ctx.dt) * (eta_t - eta_p);
-    const double across = (l / ctx.dt) * eta_p;
-    Mat3 d_self;
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r) d_self(r, c) = (along * that(r)) * that(c);
-    for (int k = 0; k < 3; ++k) d_self(k, k) -= across;
+    // Velocity part: dF/dx_j = -(l/dt) [eta_p I + (eta_t - eta_p) t t^T].
+    Mat3 d_self = velocityBlock(l, ctx.dt, eta_t, eta_p, that);
     if (use_profile_ && mu_factor > 0.0) {  // dependence of the local viscosity on height
       const double dfactor = ctx.medium.profile.factorDerivative(height);
       d_self += (F / mu_factor) * (dfactor * ctx.medium.up).transpose();
@@ -123,32 +170,14 @@ void RftDrag::addForce(const EffectContext& ctx, VecX& force, JacobianSink* jaco
     // Geometric part (docs/model.md 2): dF/dthat = -l (eta_t - eta_p) ((t.v) I + t v^T) times
     // dthat/ds = (I - t t^T)/|s|, i.e. dF/ds = -(l (eta_t - eta_p)/|s|) ((t.v)(I - t t^T) + t w^T)
     // with w = v - (t.v) t; ds/dx of a neighbour is -+(I - t_e t_e^T)/(|e| edges).
-    const Vec3 w = v - tv * that;
-    const double ds_scale = -l * (eta_t - eta_p) * inv_s_norm;
-    Mat3 dF_ds;
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r) dF_ds(r, c) = that(r) * (w(c) - tv * that(c));
-    for (int k = 0; k < 3; ++k) dF_ds(k, k) += tv;
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r) dF_ds(r, c) *= ds_scale;
-    // factor dF/ds (I - t_e t_e^T), without forming the projector, into `out`; d_self -= out.
-    auto projected = [&](const Vec3& t_e, double factor, Mat3& out) {
-      double u[3];
-      for (int r = 0; r < 3; ++r)
-        u[r] = (dF_ds(r, 0) * t_e(0) + dF_ds(r, 1) * t_e(1)) + dF_ds(r, 2) * t_e(2);
-      for (int c = 0; c < 3; ++c)
-        for (int r = 0; r < 3; ++r) {
-          out(r, c) = (dF_ds(r, c) - u[r] * t_e(c)) * factor;
-          d_self(r, c) -= out(r, c);
-        }
-    };
+    const Mat3 dF_ds = forceTangentDerivative(that, v, tv, -l * (eta_t - eta_p) * inv_s_norm);
     if (n.prev >= 0) {
       Mat3 d_prev;
-      projected(t_in, -inv_len_in / edge_count, d_prev);
+      projectedBlock(dF_ds, g.t_in, -g.inv_len_in / g.edge_count, d_prev, d_self);
       jacobian->addBlock(3 * n.node, 3 * n.prev, d_prev);
     }
     Mat3 d_next;
-    if (n.next >= 0) projected(t_out, inv_len_out / edge_count, d_next);
+    if (n.next >= 0) projectedBlock(dF_ds, g.t_out, g.inv_len_out / g.edge_count, d_next, d_self);
     jacobian->addBlock(3 * n.node, 3 * n.node, d_self);
     if (n.next >= 0) jacobian->addBlock(3 * n.node, 3 * n.next, d_next);
   }

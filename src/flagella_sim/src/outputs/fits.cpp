@@ -89,24 +89,26 @@ LinearFit fitLine(const std::vector<double>& x, const std::vector<double>& y) {
   return fit;
 }
 
-CircleFit fitCircle(const std::vector<Eigen::Vector2d>& points) {
-  const CircleFit invalid;
-  const std::size_t n = points.size();
-  if (n < 3) return invalid;
-  for (const Eigen::Vector2d& p : points) {
-    if (!p.allFinite()) return invalid;
-  }
+namespace {
 
-  // Normalise: centroid at the origin, unit RMS distance from it.
-  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+// Centroid of the points and their RMS distance from it; false if that is zero or not finite.
+bool centroidAndScale(const std::vector<Eigen::Vector2d>& points, Eigen::Vector2d& centroid,
+                      double& scale) {
+  const std::size_t n = points.size();
+  centroid = Eigen::Vector2d::Zero();
   for (const Eigen::Vector2d& p : points) centroid += p;
   centroid /= static_cast<double>(n);
-  double scale = 0.0;
+  scale = 0.0;
   for (const Eigen::Vector2d& p : points) scale += (p - centroid).squaredNorm();
   scale = std::sqrt(scale / static_cast<double>(n));
-  if (!(scale > 0.0) || !std::isfinite(scale)) return invalid;
+  if (!(scale > 0.0) || !std::isfinite(scale)) return false;
+  return true;
+}
 
-  std::vector<Eigen::Vector2d> q;
+// The points centred and scaled into q; false if they are (near-)collinear.
+bool normalisedPoints(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& centroid,
+                      double scale, std::vector<Eigen::Vector2d>& q) {
+  const std::size_t n = points.size();
   q.reserve(n);
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
   for (const Eigen::Vector2d& p : points) {
@@ -119,9 +121,14 @@ CircleFit fitCircle(const std::vector<Eigen::Vector2d>& points) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov, Eigen::EigenvaluesOnly);
   const double minor = std::max(0.0, eig.eigenvalues()(0));
   const double major = eig.eigenvalues()(1);
-  if (!(major > 0.0) || std::sqrt(minor / major) < kMinCircleSpreadRatio) return invalid;
+  if (!(major > 0.0) || std::sqrt(minor / major) < kMinCircleSpreadRatio) return false;
+  return true;
+}
 
-  // Kasa fit: minimise sum (x^2 + y^2 + D x + E y + F)^2 (linear least squares).
+// Kasa fit (linear least squares) of centre and radius into params; false if degenerate.
+bool kasaCircle(const std::vector<Eigen::Vector2d>& q, Eigen::Vector3d& params) {
+  // Minimise sum (x^2 + y^2 + D x + E y + F)^2.
+  const std::size_t n = q.size();
   Eigen::MatrixXd a(n, 3);
   Eigen::VectorXd b(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -131,11 +138,14 @@ CircleFit fitCircle(const std::vector<Eigen::Vector2d>& points) {
   const Eigen::Vector3d def = a.colPivHouseholderQr().solve(b);
   const Eigen::Vector2d kasa_center = -0.5 * def.head<2>();
   const double kasa_r2 = kasa_center.squaredNorm() - def(2);
-  if (!def.allFinite() || !(kasa_r2 > 0.0)) return invalid;
+  if (!def.allFinite() || !(kasa_r2 > 0.0)) return false;
+  params = Eigen::Vector3d(kasa_center.x(), kasa_center.y(), std::sqrt(kasa_r2));
+  return true;
+}
 
-  // Gauss-Newton on the geometric residuals |q_i - c| - r, with step halving so that the cost
-  // never increases (the result is never worse than the Kasa estimate).
-  Eigen::Vector3d params(kasa_center.x(), kasa_center.y(), std::sqrt(kasa_r2));
+// Gauss-Newton refinement of params with step halving; returns the final cost.
+double gaussNewtonCircle(const std::vector<Eigen::Vector2d>& q, Eigen::Vector3d& params) {
+  const std::size_t n = q.size();
   double cost = circleCost(q, params);
   Eigen::MatrixXd jac(n, 3);
   Eigen::VectorXd res(n);
@@ -165,6 +175,31 @@ CircleFit fitCircle(const std::vector<Eigen::Vector2d>& points) {
     }
     if (!improved || factor * step.norm() < kGaussNewtonStepTolerance) break;
   }
+  return cost;
+}
+
+}  // namespace
+
+CircleFit fitCircle(const std::vector<Eigen::Vector2d>& points) {
+  const CircleFit invalid;
+  const std::size_t n = points.size();
+  if (n < 3) return invalid;
+  for (const Eigen::Vector2d& p : points) {
+    if (!p.allFinite()) return invalid;
+  }
+
+  // Normalise: centroid at the origin, unit RMS distance from it.
+  Eigen::Vector2d centroid;
+  double scale = 0.0;
+  if (!centroidAndScale(points, centroid, scale)) return invalid;
+  std::vector<Eigen::Vector2d> q;
+  if (!normalisedPoints(points, centroid, scale, q)) return invalid;
+
+  // Kasa estimate, then Gauss-Newton on the geometric residuals |q_i - c| - r, with step halving
+  // so that the cost never increases (the result is never worse than the Kasa estimate).
+  Eigen::Vector3d params;
+  if (!kasaCircle(q, params)) return invalid;
+  const double cost = gaussNewtonCircle(q, params);
 
   if (!params.allFinite() || !(params(2) > 0.0) || params(2) > kMaxRelativeRadius) return invalid;
 

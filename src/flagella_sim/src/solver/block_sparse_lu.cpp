@@ -70,18 +70,15 @@ bool invertBlock(const BlockSparseLu::Block& D, unsigned padding, BlockSparseLu:
   return true;
 }
 
-}  // namespace
-
-void BlockSparseLu::analyze(const SparseMatrix& A, const std::vector<DofGroup>& groups) {
-  ndof_ = static_cast<int>(A.rows());
-  groups_ = groups;
+// Block and slot of each DOF; throws if a DOF is out of range, in two groups or in none.
+void assignDofSlots(const std::vector<BlockSparseLu::DofGroup>& groups, int ndof,
+                    std::vector<int>& block_of, std::vector<int>& slot_of) {
   const int nb = static_cast<int>(groups.size());
-  std::vector<int> block_of(ndof_, -1), slot_of(ndof_, -1);
   for (int b = 0; b < nb; ++b)
     for (int s = 0; s < 4; ++s) {
       const int dof = groups[b][s];
       if (dof < 0) continue;
-      if (dof >= ndof_ || block_of[dof] >= 0)
+      if (dof >= ndof || block_of[dof] >= 0)
         throw std::invalid_argument("BlockSparseLu: DOF " + std::to_string(dof) +
                                     " out of range or in two groups");
       block_of[dof] = b;
@@ -89,8 +86,11 @@ void BlockSparseLu::analyze(const SparseMatrix& A, const std::vector<DofGroup>& 
     }
   if (std::count(block_of.begin(), block_of.end(), -1) > 0)
     throw std::invalid_argument("BlockSparseLu: a DOF is in no group");
+}
 
-  // Block graph of A + A^T (off-diagonal blocks only).
+// Block graph of A + A^T (off-diagonal blocks only).
+std::vector<std::set<int>> blockGraph(const SparseMatrix& A, const std::vector<int>& block_of,
+                                      int nb) {
   std::vector<std::set<int>> adjacent(nb);
   for (int col = 0; col < A.outerSize(); ++col)
     for (SparseMatrix::InnerIterator it(A, col); it; ++it) {
@@ -99,15 +99,62 @@ void BlockSparseLu::analyze(const SparseMatrix& A, const std::vector<DofGroup>& 
       adjacent[I].insert(J);
       adjacent[J].insert(I);
     }
+  return adjacent;
+}
+
+// Approximate-minimum-degree elimination order of the block graph (SuiteSparse AMD) into `order`.
+void amdBlockOrder(const std::vector<std::set<int>>& adjacent, std::vector<int>& order) {
+  const int nb = static_cast<int>(adjacent.size());
   std::vector<int> Ap(nb + 1, 0), Ai;
   for (int b = 0; b < nb; ++b) {
     Ai.insert(Ai.end(), adjacent[b].begin(), adjacent[b].end());
     Ap[b + 1] = static_cast<int>(Ai.size());
   }
   Ai.push_back(0);  // AMD refuses a null index array (a graph without edges); not referenced
-  order_.assign(nb, 0);
-  if (nb > 0 && amd_order(nb, Ap.data(), Ai.data(), order_.data(), nullptr, nullptr) < AMD_OK)
+  order.assign(nb, 0);
+  if (nb > 0 && amd_order(nb, Ap.data(), Ai.data(), order.data(), nullptr, nullptr) < AMD_OK)
     throw std::runtime_error("BlockSparseLu: AMD ordering failed");
+}
+
+// The stored entry of each value of A, in A's storage order; marks each in `from_matrix`.
+void mapMatrixValues(const SparseMatrix& A, BlockSlots& slots, const std::vector<int>& block_of,
+                     const std::vector<int>& slot_of, std::vector<int>& value_offset,
+                     std::vector<char>& from_matrix) {
+  int n = 0;
+  for (int col = 0; col < A.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(A, col); it; ++it, ++n) {
+      const int offset = 16 * slots.at(block_of[it.row()], block_of[col]) + 4 * slot_of[col] +
+                         slot_of[it.row()];  // Eigen blocks are column-major
+      value_offset[n] = offset;
+      from_matrix[offset] = 1;
+    }
+}
+
+// The padding DOFs' unit diagonals and each block's padding bits; marks them in `from_matrix`.
+void mapPadding(const std::vector<BlockSparseLu::DofGroup>& groups,
+                const std::vector<int>& diagonal, std::vector<int>& unit_offsets,
+                std::vector<unsigned>& padding, std::vector<char>& from_matrix) {
+  const int nb = static_cast<int>(groups.size());
+  for (int b = 0; b < nb; ++b)
+    for (int s = 0; s < 4; ++s)
+      if (groups[b][s] < 0) {
+        unit_offsets.push_back(16 * diagonal[b] + 5 * s);
+        from_matrix[unit_offsets.back()] = 1;
+        padding[b] |= 1u << s;
+      }
+}
+
+}  // namespace
+
+void BlockSparseLu::analyze(const SparseMatrix& A, const std::vector<DofGroup>& groups) {
+  ndof_ = static_cast<int>(A.rows());
+  groups_ = groups;
+  const int nb = static_cast<int>(groups.size());
+  std::vector<int> block_of(ndof_, -1), slot_of(ndof_, -1);
+  assignDofSlots(groups, ndof_, block_of, slot_of);
+
+  std::vector<std::set<int>> adjacent = blockGraph(A, block_of, nb);
+  amdBlockOrder(adjacent, order_);
   std::vector<int> position(nb);
   for (int k = 0; k < nb; ++k) position[order_[k]] = k;
 
@@ -151,23 +198,10 @@ void BlockSparseLu::analyze(const SparseMatrix& A, const std::vector<DofGroup>& 
   const size_t entries = 16 * static_cast<size_t>(slots.size());
   std::vector<char> from_matrix(entries, 0);
   value_offset_.assign(nonzeros_, 0);
-  int n = 0;
-  for (int col = 0; col < A.outerSize(); ++col)
-    for (SparseMatrix::InnerIterator it(A, col); it; ++it, ++n) {
-      const int offset = 16 * slots.at(block_of[it.row()], block_of[col]) + 4 * slot_of[col] +
-                         slot_of[it.row()];  // Eigen blocks are column-major
-      value_offset_[n] = offset;
-      from_matrix[offset] = 1;
-    }
+  mapMatrixValues(A, slots, block_of, slot_of, value_offset_, from_matrix);
   padding_.assign(nb, 0u);
   unit_offsets_.clear();
-  for (int b = 0; b < nb; ++b)
-    for (int s = 0; s < 4; ++s)
-      if (groups[b][s] < 0) {
-        unit_offsets_.push_back(16 * diagonal_[b] + 5 * s);
-        from_matrix[unit_offsets_.back()] = 1;
-        padding_[b] |= 1u << s;
-      }
+  mapPadding(groups, diagonal_, unit_offsets_, padding_, from_matrix);
   zero_offsets_.clear();
   for (size_t offset = 0; offset < entries; ++offset)
     if (!from_matrix[offset]) zero_offsets_.push_back(static_cast<int>(offset));
