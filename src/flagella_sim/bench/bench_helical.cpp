@@ -252,18 +252,21 @@ int run(const std::string& config_dir, bool quick) {
   breakdown(config);
 
   std::printf(
-      "\nreal-time factor at dt = 1e-2 s (3.5 pitches, after the ramp), shipped solver and "
-      "exact solver:\n");
+      "\nreal-time factor at dt = 1e-2 s (3.5 pitches, after the ramp): shipped solver, exact "
+      "solver, shipped solver with the rotating predictor (solver.predictor=rotating):\n");
+  const char* variants[] = {"shipped solver ", "exact solver   ", "rotating pred. "};
   for (const char* rpm : {"10", "30", "150"}) {
-    for (bool exact : {false, true}) {
-      const std::vector<std::string> ov{std::string("motor.omega_rpm=") + rpm};
-      const SimulationConfig c = loadSimulationConfig(robot, exact ? exactSolver(ov) : ov);
+    for (int variant = 0; variant < 3; ++variant) {
+      std::vector<std::string> ov{std::string("motor.omega_rpm=") + rpm};
+      if (variant == 1) ov = exactSolver(ov);
+      if (variant == 2) ov.push_back("solver.predictor=rotating");
+      const SimulationConfig c = loadSimulationConfig(robot, ov);
       Simulation sim(c);
       const long steps = quick ? 100 : 500;
       const double per_step = secondsPerStep(sim, stepsPastRamp(c), steps);
       std::printf("  %3s rpm%s, %s: %.1f us/step, %.2fx real time\n", rpm,
                   std::string(rpm) == "150" ? " (buckled)" : " (below the threshold)",
-                  exact ? "exact solver  " : "shipped solver", 1e6 * per_step, c.dt / per_step);
+                  variants[variant], 1e6 * per_step, c.dt / per_step);
       printStepParts(sim, quick ? 50 : 200);
     }
   }

@@ -236,6 +236,7 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
   o.jacobian_reuse = r.number("jacobian_reuse", o.jacobian_reuse, 0.0, 1.0);
   o.krylov_iterations = r.integer("krylov_iterations", o.krylov_iterations, 0, 200);
   o.extrapolate_initial_guess = r.flag("extrapolate_initial_guess", o.extrapolate_initial_guess);
+  o.rotating_predictor = r.choice("predictor", "linear", {"linear", "rotating"}) == "rotating";
   o.block_lu = r.choice("linear_solver", "block_lu", {"block_lu", "klu"}) == "block_lu";
   o.condensed_dense_lu =
       r.choice("dense_solver", "condensed", {"condensed", "full"}) == "condensed";

@@ -8,6 +8,7 @@
 #include "flagella_sim/elastic/bend_twist_energy.h"
 #include "flagella_sim/elastic/stretching_energy.h"
 #include "flagella_sim/rod/rod_kinematics.h"
+#include "flagella_sim/solver/chord_predictor.h"
 
 namespace flagella {
 
@@ -242,6 +243,13 @@ void ImplicitStepper::setInitialGuess(const RodState& start, double dt, VecX& q)
                        predictor_.qdot_end.size() == start.qdot.size() &&
                        predictor_.qdot_end == start.qdot;
   if (history) q += dt * (start.qdot - predictor_.qdot_start);
+  if (history && options_.rotating_predictor)
+    for (int i = 0; i < net_.numNodes(); ++i) {
+      const int at = RodNetwork::positionIndex(i);
+      q.segment<3>(at) =
+          q0.segment<3>(at) + dt * rotatingChordPrediction(predictor_.qdot_start.segment<3>(at),
+                                                           start.qdot.segment<3>(at));
+    }
   for (int i = 0; i < q.size(); ++i)
     if (net_.fixed_dof[i]) q(i) = q0(i);
 }

@@ -42,6 +42,10 @@ struct NewtonOptions {
   /// continues the last accepted one with the same dt, the rate is extrapolated linearly from the
   /// last two steps, q(t_k) + dt (2 qdot(t_k) - qdot(t_{k-1})) (docs/model.md 1.10).
   bool extrapolate_initial_guess = true;
+  /// With that history, each node's position is extrapolated as a turn at the rate of its last
+  /// two chords instead (rotatingChordPrediction, docs/model.md 1.10): exact for nodes on steady
+  /// circles, as on a rotating flagellum. Twists stay linear. The convergence test is the same.
+  bool rotating_predictor = false;
   /// Sparse linear solve by the 4x4-block LU (a node's coordinates with an edge's twist per
   /// block, no pivoting across blocks, KLU when it refuses its pivots); false: KLU always. Both
   /// solve the same system, to round-off (docs/model.md 1.10).
