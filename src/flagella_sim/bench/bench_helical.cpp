@@ -34,6 +34,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The robot's RSS effect, or null when the config has none.
+const RssHydrodynamics* rssOf(const Simulation& sim) {
+  return dynamic_cast<const RssHydrodynamics*>(sim.stepper().findEffect("rss"));
+}
+
 double secondsOf(const std::function<void()>& work, int repeats) {
   const auto t0 = Clock::now();
   for (int r = 0; r < repeats; ++r) work();
@@ -132,7 +137,7 @@ SteadySteps profileSteadySteps(const SimulationConfig& config) {
   Simulation timed(config);
   for (long k = 0; k < std::lround(kSteadyAfter / config.dt); ++k) timed.step();
   timed.setProfile(&out.profile);
-  const auto* timed_rss = dynamic_cast<const RssHydrodynamics*>(timed.stepper().findEffect("rss"));
+  const auto* timed_rss = rssOf(timed);
   const long rss_steps = timed_rss->stepsAfterFirst(), rss_reused = timed_rss->reusedSteps();
   const int factorizations = timed.stepper().totalFactorizations();
   out.step = secondsPerStep(timed, 0, 100);
@@ -174,7 +179,7 @@ void breakdown(const SimulationConfig& config) {
   for (long k = 0; k < std::lround(kSteadyAfter / config.dt); ++k) sim.step();  // steady cruise
   const RodNetwork& net = sim.network();
   const RodState& s = sim.state();
-  const auto* rss = dynamic_cast<const RssHydrodynamics*>(sim.stepper().findEffect("rss"));
+  const auto* rss = rssOf(sim);
   if (!rss) {
     std::printf("(no rss effect in the config: no breakdown)\n");
     return;
@@ -201,14 +206,11 @@ void breakdown(const SimulationConfig& config) {
 // Per-step cost of each part (StepProfile) over `steps` steps of a running simulation.
 void printStepParts(Simulation& sim, long steps) {
   StepProfile profile;
-  const long reused_before = [&] {
-    const auto* rss = dynamic_cast<const RssHydrodynamics*>(sim.stepper().findEffect("rss"));
-    return rss ? rss->reusedSteps() : 0L;
-  }();
+  const RssHydrodynamics* rss = rssOf(sim);
+  const long reused_before = rss ? rss->reusedSteps() : 0L;
   sim.setProfile(&profile);
   for (long k = 0; k < steps; ++k) sim.step();
   sim.setProfile(nullptr);
-  const auto* rss = dynamic_cast<const RssHydrodynamics*>(sim.stepper().findEffect("rss"));
   const double n = double(steps), us = 1e6 / n;
   std::printf(
       "    per step: %.2f Jacobians, %.2f residuals, %.2f factorisations, %.2f updates, %.2f GMRES "
@@ -217,9 +219,8 @@ void printStepParts(Simulation& sim, long steps) {
       profile.krylov_iterations / n,
       rss ? 100.0 * double(rss->reusedSteps() - reused_before) / n : 0.0);
   std::printf(
-      "    us per step: frames %.0f, elastic %.0f, effects %.0f, assembly %.0f, factorisation "
-      "%.0f, "
-      "solve %.0f, convergence %.0f, other %.0f; total %.0f\n",
+      "    us per step: frames %.0f, elastic %.0f, effects %.0f, assembly %.0f, "
+      "factorisation %.0f, solve %.0f, convergence %.0f, other %.0f; total %.0f\n",
       us * profile.frames, us * profile.elastic, us * profile.effects, us * profile.assembly,
       us * profile.factorization, us * profile.solve, us * profile.convergence,
       us * profile.other(), us * profile.total);

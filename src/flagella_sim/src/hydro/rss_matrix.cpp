@@ -47,23 +47,17 @@ void validatePolyline(const Polyline& nodes, double eps) {
 namespace {
 
 // Dl A1 and Dl A2 of docs/model.md 4.2 added at rows `row`, columns `col_a` and `col_b` (4.3):
-// both are symmetric, c I + c_rr r r^T + c_rv (r v^T + v r^T) + c_vv v v^T, so six entries each.
+// both are symmetric, so six distinct entries each.
 void addSegmentBlocks(const Vec3& r, const SegmentGeometry& segment, const SegmentIntegrals& t,
-                      double e2, MatX& ablk, int row, int col_a, int col_b) {
+                      double eps, MatX& ablk, int row, int col_a, int col_b) {
   const Vec3& v = segment.v;
-  const double dl = segment.dl;
-  // A2 = (T1,-1 + e2 T1,-3) I + T1,-3 rr + T2,-3 (rv + vr) + T3,-3 vv; A1 = A1' - A2 with
-  // A1' = (T0,-1 + e2 T0,-3) I + T0,-3 rr + T1,-3 (rv + vr) + T2,-3 vv
-  const double d2 = dl * (t.t1m1 + e2 * t.t1m3), rr2 = dl * t.t1m3, rv2 = dl * t.t2m3,
-               vv2 = dl * t.t3m3;
-  const double d1 = dl * (t.t0m1 + e2 * t.t0m3) - d2, rr1 = dl * t.t0m3 - rr2,
-               rv1 = dl * t.t1m3 - rv2, vv1 = dl * t.t2m3 - vv2;
+  const SegmentBlockCoefficients c = segmentBlockCoefficients(t, eps, segment.dl);
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i <= j; ++i) {
       const double rr = r[i] * r[j], rv = r[i] * v[j] + v[i] * r[j], vv = v[i] * v[j];
       const double diagonal = i == j ? 1.0 : 0.0;
-      const double a1 = d1 * diagonal + rr1 * rr + rv1 * rv + vv1 * vv;
-      const double a2 = d2 * diagonal + rr2 * rr + rv2 * rv + vv2 * vv;
+      const double a1 = c.d1 * diagonal + c.rr1 * rr + c.rv1 * rv + c.vv1 * vv;
+      const double a2 = c.d2 * diagonal + c.rr2 * rr + c.rv2 * rv + c.vv2 * vv;
       ablk(row + i, col_a + j) += a1;
       ablk(row + i, col_b + j) += a2;
       if (i != j) {
@@ -96,7 +90,7 @@ void assembleRssMatrix(const Polyline& nodes, const Segments& segments, double e
     for (int p = 0; p < m; ++p) {
       const Vec3 r = nodes[p] - nodes[a];
       const SegmentIntegrals t = segmentIntegrals(r, segment, end_r(p, a), end_r(p, b), eps);
-      addSegmentBlocks(r, segment, t, e2, ablk, 3 * p, 3 * a, 3 * b);
+      addSegmentBlocks(r, segment, t, eps, ablk, 3 * p, 3 * a, 3 * b);
     }
   }
 }

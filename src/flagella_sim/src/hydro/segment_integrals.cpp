@@ -83,24 +83,36 @@ SegmentIntegrals segmentIntegrals(const Vec3& r_i, const SegmentGeometry& segmen
   return t;
 }
 
-SegmentBlocks segmentBlocks(const Vec3& r, const Vec3& v, const SegmentIntegrals& t, double eps) {
-  const Mat3 rr = r * r.transpose();
-  const Mat3 rv_vr = r * v.transpose() + v * r.transpose();
-  const Mat3 vv = v * v.transpose();
+SegmentBlockCoefficients segmentBlockCoefficients(const SegmentIntegrals& t, double eps,
+                                                  double scale) {
   const double e2 = eps * eps;
-  // A2 and A1' of docs/model.md 4.2; A1 = A1' - A2 turns intercept/slope into nodal values.
-  SegmentBlocks b;
-  b.a2 = (t.t1m1 + e2 * t.t1m3) * Mat3::Identity() + t.t1m3 * rr + t.t2m3 * rv_vr + t.t3m3 * vv;
-  const Mat3 a1p =
-      (t.t0m1 + e2 * t.t0m3) * Mat3::Identity() + t.t0m3 * rr + t.t1m3 * rv_vr + t.t2m3 * vv;
-  b.a1 = a1p - b.a2;
-  return b;
+  // A2 = (T1,-1 + e2 T1,-3) I + T1,-3 rr + T2,-3 (rv + vr) + T3,-3 vv; A1 = A1' - A2 with
+  // A1' = (T0,-1 + e2 T0,-3) I + T0,-3 rr + T1,-3 (rv + vr) + T2,-3 vv (intercept/slope into
+  // nodal values)
+  SegmentBlockCoefficients c;
+  c.d2 = scale * (t.t1m1 + e2 * t.t1m3);
+  c.rr2 = scale * t.t1m3;
+  c.rv2 = scale * t.t2m3;
+  c.vv2 = scale * t.t3m3;
+  c.d1 = scale * (t.t0m1 + e2 * t.t0m3) - c.d2;
+  c.rr1 = scale * t.t0m3 - c.rr2;
+  c.rv1 = scale * t.t1m3 - c.rv2;
+  c.vv1 = scale * t.t2m3 - c.vv2;
+  return c;
 }
 
 SegmentBlocks segmentBlocks(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, double eps) {
   const Vec3 r = xt - x_i;
   const Vec3 v = x_i - x_ip1;
-  return segmentBlocks(r, v, segmentIntegrals(r, v, eps), eps);
+  const SegmentBlockCoefficients c =
+      segmentBlockCoefficients(segmentIntegrals(r, v, eps), eps, 1.0);
+  const Mat3 rr = r * r.transpose();
+  const Mat3 rv_vr = r * v.transpose() + v * r.transpose();
+  const Mat3 vv = v * v.transpose();
+  SegmentBlocks b;
+  b.a1 = c.d1 * Mat3::Identity() + c.rr1 * rr + c.rv1 * rv_vr + c.vv1 * vv;
+  b.a2 = c.d2 * Mat3::Identity() + c.rr2 * rr + c.rv2 * rv_vr + c.vv2 * vv;
+  return b;
 }
 
 Vec3 segmentVelocityTimes8PiMu(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, const Vec3& f_i,

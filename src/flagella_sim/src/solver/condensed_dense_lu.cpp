@@ -4,10 +4,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "flagella_sim/core/blas.h"
 #include "flagella_sim/solver/sparse_lu_solver.h"
-
-extern "C" void daxpy_(const int* n, const double* alpha, const double* x, const int* incx,
-                       double* y, const int* incy);
 
 namespace flagella {
 

@@ -2,8 +2,7 @@
 
 #include <stdexcept>
 
-extern "C" void daxpy_(const int* n, const double* alpha, const double* x, const int* incx,
-                       double* y, const int* incy);
+#include "flagella_sim/core/blas.h"
 
 namespace flagella {
 

@@ -48,8 +48,7 @@ bool SparseLuSolver::factorize(const SparseMatrix& A) {
   double* Ax = const_cast<double*>(A.valuePtr());
   if (impl_->numeric) {
     if (klu_refactor(Ap, Ai, Ax, impl_->symbolic, impl_->numeric, &impl_->common) &&
-        klu_rcond(impl_->symbolic, impl_->numeric, &impl_->common) &&
-        impl_->common.rcond > kMinPivotRatio) {
+        pivotRatio() > kMinPivotRatio) {
       ++refactorizations_;
       return true;
     }

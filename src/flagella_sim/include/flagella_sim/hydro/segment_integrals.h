@@ -38,8 +38,15 @@ struct SegmentBlocks {
   Mat3 a2 = Mat3::Zero();
 };
 SegmentBlocks segmentBlocks(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, double eps);
-/// The same blocks from r_i = xt - x_i, v = x_i - x_{i+1} and the segment's integrals.
-SegmentBlocks segmentBlocks(const Vec3& r_i, const Vec3& v, const SegmentIntegrals& t, double eps);
+
+/// A1 and A2 are symmetric: each is d I + c_rr r r^T + c_rv (r v^T + v r^T) + c_vv v v^T with
+/// r = r_i, v = x_i - x_{i+1}. Their coefficients times `scale` (docs/model.md 4.2).
+struct SegmentBlockCoefficients {
+  double d1, rr1, rv1, vv1;  ///< of A1
+  double d2, rr2, rv2, vv2;  ///< of A2
+};
+SegmentBlockCoefficients segmentBlockCoefficients(const SegmentIntegrals& t, double eps,
+                                                  double scale);
 
 /// 8 pi mu u(xt) induced by the segment with nodal force densities f_i, f_ip1 (docs/model.md 4.2).
 Vec3 segmentVelocityTimes8PiMu(const Vec3& xt, const Vec3& x_i, const Vec3& x_ip1, const Vec3& f_i,
