@@ -46,6 +46,10 @@ expect_bad_input "square.yaml" "${steer[@]}" --config "$cfg/helical_steering.yam
 expect_bad_input "needs a robot with a slider" "$bin/flagella_steer_robustness" \
   --calibration "$cfg/calibration/helical_steering.yaml" --config "$cfg/helical_robot.yaml" \
   --waypoints "$cfg/paths/steering_demo.yaml"
+# A model-error key the config lacks fails before the reference run (which takes minutes).
+expect_bad_input "model error 'k_t'" "$bin/flagella_steer_robustness" \
+  --calibration "$cfg/calibration/helical_steering.yaml" --config "$cfg/helical_steering.yaml" \
+  --waypoints "$cfg/paths/steering_demo.yaml" --keys eps k_t --runs 1
 expect_bad_input "missing top-level 'path'" "$bin/flagella_follow_path" \
   "$cfg/interface_path_planning.yaml" --path "$cfg/paths/steering_demo.yaml" \
   --calibration "$cfg/calibration/interface_path_planning.yaml"

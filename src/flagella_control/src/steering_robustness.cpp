@@ -73,6 +73,11 @@ RobustnessReport runRobustness(const RobustnessOptions& options,
   RobustnessReport report;
   const flagella::SimulationConfig nominal =
       flagella::loadSimulationConfig(options.config_path, options.overrides);
+  // Every key must name a value of the config before the reference run (minutes) starts: a
+  // misspelt key, or k_t without effects.dc_motor, fails here as bad input, not in every run.
+  flagella::loadSimulationConfig(options.config_path,
+                                 modelErrorOverrides(options.config_path, options.overrides,
+                                                     drawModelErrors(options, options.first_seed)));
   // The open-loop schedule: the controller on the nominal model with perfect sensors.
   flagella::SessionOptions perfect = steeringSessionOptions(nominal, calibration, 0);
   perfect.imu.orientation_noise_std = perfect.imu.gyro_noise_std = 0.0;
