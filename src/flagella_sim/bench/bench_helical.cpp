@@ -36,7 +36,7 @@ using Clock = std::chrono::steady_clock;
 
 // The robot's RSS effect, or null when the config has none.
 const RssHydrodynamics* rssOf(const Simulation& sim) {
-  return dynamic_cast<const RssHydrodynamics*>(sim.stepper().findEffect("rss"));
+  return sim.stepper().findEffect<RssHydrodynamics>();
 }
 
 double secondsOf(const std::function<void()>& work, int repeats) {

@@ -5,6 +5,7 @@
 
 #include "flagella_sim/beam/euler_bernoulli_beam.h"
 #include "flagella_sim/core/units.h"
+#include "flagella_sim/effects/rft_drag.h"
 #include "flagella_sim/simulation/simulation.h"
 #include "run_command_shared.h"
 #include "run_commands.h"
@@ -32,7 +33,7 @@ int beamCommand(const BeamOptions& o) {
   d.C_r = probe.parameter("effects.stokes_head.C_r");
   d.head_radius = probe.parameter("effects.stokes_head.head_radius");
   for (const EffectSpec& e : c.effects)
-    if (e.name == "rft") d.log_form = parseRftLogForm(e.option("log_form"));
+    if (e.name == RftDrag::kName) d.log_form = parseRftLogForm(e.option("log_form"));
   const double omega = std::abs(c.motor.omega);
   std::vector<beam::BeamRegime> regimes;
   if (o.regime == "LB" || o.regime == "all") regimes.push_back(beam::BeamRegime::kLinear);

@@ -7,6 +7,7 @@
 
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/core/text_lists.h"
+#include "flagella_sim/effects/rss_hydrodynamics.h"
 #include "flagella_sim/simulation/simulation_config.h"
 
 namespace flagella {
@@ -51,7 +52,7 @@ std::string secondsText(double seconds) {
 
 ProblemSize estimateProblemSize(const SimulationConfig& c) {
   ProblemSize size;
-  if (!c.isHelical() || !hasEffect(c, "rss")) return size;
+  if (!c.isHelical() || !hasEffect(c, RssHydrodynamics::kName)) return size;
   // Before rounding, as validateEdgeCount: no int overflow for absurd sizes.
   const double helix_nodes = c.helical.arcLength() / c.helical.edge_length + 1.0;
   const double nodes = kHelicalHeadNodes + helix_nodes;

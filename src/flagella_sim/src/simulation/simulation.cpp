@@ -4,7 +4,9 @@
 
 #include "flagella_sim/core/geometry.h"
 #include "flagella_sim/core/units.h"
+#include "flagella_sim/effects/com_offset.h"
 #include "flagella_sim/effects/effect_registry.h"
+#include "flagella_sim/effects/stokes_head_drag.h"
 #include "flagella_sim/outputs/fits.h"
 #include "flagella_sim/robots/flagellum_tilt.h"
 #include "flagella_sim/rod/rod_kinematics.h"
@@ -48,7 +50,7 @@ Simulation::Simulation(const SimulationConfig& config)
       state_(stepper_.initialState()) {
   motor_.setSpeedLaws(stepper_.motorSpeedLaws());
   if (config.slider.enabled) {
-    slider_couple_ = stepper_.findEffect("com_offset");
+    slider_couple_ = stepper_.findEffect<ComOffset>();
     if (!slider_couple_)
       throw ConfigError("slider: needs effects.com_offset (the couple it shifts)");
     neutral_offset_ = slider_couple_->parameters().get("offset");
@@ -167,7 +169,7 @@ SummaryMetrics Simulation::summary() const {
   in.initial_axis = trajectory_.front().head_axis;
   in.steady_fraction = config_.steady_fraction;
   in.buckling_tilt = units::degToRad(config_.buckling_tilt_deg);
-  if (const Effect* e = stepper_.findEffect("stokes_head")) {
+  if (const Effect* e = stepper_.findEffect<StokesHeadDrag>()) {
     in.C_t = e->parameters().get("C_t");
     in.C_r = e->parameters().get("C_r");
     in.head_radius = e->parameters().get("head_radius");

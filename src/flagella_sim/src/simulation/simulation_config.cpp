@@ -9,6 +9,7 @@
 #include "flagella_sim/core/text_lists.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/core/yaml_fields.h"
+#include "flagella_sim/effects/com_offset.h"
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/simulation/problem_size.h"
 
@@ -202,7 +203,7 @@ void parseSlider(FieldReader r, SimulationConfig& c) {
   r.rejectUnknown();
   s.validate();
   bool has_couple = false;
-  for (const EffectSpec& e : c.effects) has_couple = has_couple || e.name == "com_offset";
+  for (const EffectSpec& e : c.effects) has_couple = has_couple || e.name == ComOffset::kName;
   if (!has_couple)
     throw ConfigError(r.path() +
                       " needs effects.com_offset: the slider shifts that couple's offset l");

@@ -75,6 +75,11 @@ class ImplicitStepper {
   ParameterSet& mediumParameters() { return medium_.parameters(); }
   const std::vector<EffectPtr>& effects() const { return effects_; }
   Effect* findEffect(const std::string& name) const;
+  /// The effect of class T (found by its registry name T::kName), or nullptr if not configured.
+  template <class T>
+  T* findEffect() const {
+    return dynamic_cast<T*>(findEffect(T::kName));
+  }
   NewtonOptions& options() { return options_; }
   int totalFactorizations() const { return factorizations_; }
   int totalAnalyses() const { return analyses_; }
