@@ -12,6 +12,7 @@
 #include "flagella_control/validation.h"
 #include "flagella_sim/analysis/buckling_probe.h"
 #include "flagella_sim/core/units.h"
+#include "flagella_sim/simulation/simulation.h"
 
 namespace flagella::control {
 
@@ -238,18 +239,31 @@ void calibrateSchedules(const flagella::SimulationConfig& config,
   }
 }
 
-// Step 4: the slider's park position (no couple at the nominal l_0) and pitch rate per metre.
+// The slider's park position: no couple at the nominal l_0 (docs/model.md 5: l = l_0 + (m_s / m_h)
+// x_s = 0). Checked before any run: it and the pitch-rate step must lie within the travel.
+double parkPosition(const flagella::SimulationConfig& config,
+                    const SteeringCalibrationOptions& options) {
+  const flagella::Simulation sim(config);
+  const double ratio = config.slider.mass / sim.parameter("effects.com_offset.head_mass");
+  const double l0 =
+      sim.parameter("effects.com_offset.offset") - ratio * config.slider.initial_position;
+  const double park = -l0 / ratio;
+  const double min = config.slider.travel_min, max = config.slider.travel_max;
+  if (!(park >= min && park + options.slider_step <= max))
+    throw std::invalid_argument(
+        "slider: the park position (no couple: -l_0 m_h / m_s = " + numberString(park * 1e3) +
+        " mm) and the calibration's step of " + numberString(options.slider_step * 1e3) +
+        " mm after it must lie within slider.travel_min .. travel_max [" + numberString(min * 1e3) +
+        ", " + numberString(max * 1e3) + "] mm (set by effects.com_offset.offset and slider.mass)");
+  return park;
+}
+
+// Step 4: the slider's pitch rate per metre from the park position (c.park_position).
 void calibrateSlider(const flagella::SimulationConfig& config,
                      const SteeringCalibrationOptions& options, SteeringCalibration& c,
                      const ProgressReport& report) {
   SessionDriver driver(config, c.cruise_omega, "slider step");
-  const flagella::Simulation& sim = driver.session().simulation();
-  const double ratio = config.slider.mass / sim.parameter("effects.com_offset.head_mass");
-  const double l0 =
-      sim.parameter("effects.com_offset.offset") - ratio * config.slider.initial_position;
-  c.slider_min = config.slider.travel_min;
-  c.slider_max = config.slider.travel_max;
-  c.park_position = std::clamp(-l0 / ratio, c.slider_min, c.slider_max);
+  const double stepped = c.park_position + options.slider_step;
   driver.commandSlider(c.park_position);
   Vec3 ignored = Vec3::Zero();
   double shaft = 0.0;
@@ -258,13 +272,9 @@ void calibrateSlider(const flagella::SimulationConfig& config,
   // The robot's own pitching at park, over a whole window (the head wobbles with the
   // flagellum's turn).
   c.park_pitch_rate = elevationRateOver(driver, options.window, c.cruise_omega);
-  driver.commandSlider(
-      std::clamp(c.park_position + options.slider_step, c.slider_min, c.slider_max));
-  const double step =
-      std::clamp(c.park_position + options.slider_step, c.slider_min, c.slider_max) -
-      c.park_position;
+  driver.commandSlider(stepped);
   const double slope = elevationRateOver(driver, options.pitch_window, c.cruise_omega);
-  c.pitch_rate_per_slider = slope / step;
+  c.pitch_rate_per_slider = slope / (stepped - c.park_position);
   report("slider: park " + numberString(c.park_position * 1e3) + " mm, pitch rate " +
          numberString(c.pitch_rate_per_slider * 1e-3 * 180 / M_PI) + " deg/s per mm; at park " +
          numberString(c.park_pitch_rate * 180 / M_PI) + " deg/s");
@@ -301,6 +311,9 @@ SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
   SteeringCalibration c;
   std::ostringstream source;
   source << config.source << "; ";
+  c.slider_min = config.slider.travel_min;
+  c.slider_max = config.slider.travel_max;
+  c.park_position = parkPosition(config, options);
   // 1. Buckling threshold.
   const double threshold_rpm = findThresholdRpm(config, options, source);
   c.buckling_threshold = flagella::units::rpmToRadPerSec(threshold_rpm);
@@ -312,7 +325,7 @@ SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
   report("cruise speed " + numberString(c.cruise_speed * 1e3) + " mm/s");
   // 3. The two buckle schedules.
   calibrateSchedules(config, options, c, report);
-  // 4. Slider: park position (no couple at the nominal l_0) and pitch rate per metre.
+  // 4. Slider: pitch rate per metre from the park position.
   calibrateSlider(config, options, c, report);
   // 5. Crab angle per slider metre: parked a few micrometres to either side (docs/model.md 7.4).
   calibrateCrab(config, options, c, report);
