@@ -65,13 +65,14 @@ const std::vector<std::string>& caseFreeParameters() {
 }
 
 static std::vector<DiscoveryCase> makeDiscoveryCases() {
-  std::vector<DiscoveryCase> cases = {{"null_table", {}, false, true},
-                                      {"null_series", {}, false, false}};
+  std::vector<DiscoveryCase> cases = {{"null_table", {}, false, true, 0, 1.0, {}},
+                                      {"null_series", {}, false, false, 0, 1.0, {}}};
   // one case per candidate, in the data its descriptor asks for
   for (const Candidate& c : standardCandidates())
-    cases.push_back({c.name, {c.name}, false, c.steady_table_data});
-  cases.push_back({"granular_yield+dc_motor", {"granular_yield", "dc_motor"}, false, true});
-  cases.push_back({"unknown_ripple", {}, true, false});
+    cases.push_back({c.name, {c.name}, false, c.steady_table_data, 0, 1.0, {}});
+  cases.push_back(
+      {"granular_yield+dc_motor", {"granular_yield", "dc_motor"}, false, true, 0, 1.0, {}});
+  cases.push_back({"unknown_ripple", {}, true, false, 0, 1.0, {}});
   // docs/model.md 7.6: small tables, cross-validated; a yield only the fastest rows show, a
   // yield no row shows (the right verdict: "cannot tell", with the yield suggested), none
   cases.push_back(
@@ -87,7 +88,8 @@ static std::vector<DiscoveryCase> makeDiscoveryCases() {
                      false,
                      false,
                      tails,
-                     40.0});
+                     40.0,
+                     {}});
   return cases;
 }
 

@@ -223,8 +223,9 @@ TEST(Candidates, WriteTheDescriptorsParameters) {
       ASSERT_TRUE(written.count(v.parameter)) << c.name << "." << v.parameter;
       EXPECT_DOUBLE_EQ(written[v.parameter], v.reciprocal ? 1.0 / values[i] : values[i]);
     }
-    if (!h.session_time_parameter.empty())
+    if (!h.session_time_parameter.empty()) {
       EXPECT_EQ(written[h.session_time_parameter], 1234.0) << c.name;
+    }
     YAML::Node off_tree = YAML::Clone(baseline);
     c.apply(off_tree, c.off, 1234.0);
     EXPECT_EQ(YAML::Dump(off_tree), YAML::Dump(baseline)) << c.name << " at its off values";
@@ -389,7 +390,9 @@ TEST(CannotTellBetween, SeparatingMeasurementsAreTheTwoModelsPredictions) {
     EXPECT_GE(rpm, 30.0 * (1.0 - 1e-9));
     EXPECT_LE(rpm, 480.0 * (1.0 + 1e-9));
     EXPECT_GE(s[i].separation, kDecisiveSeparation);
-    if (i > 0) EXPECT_LE(s[i].separation, s[i - 1].separation);
+    if (i > 0) {
+      EXPECT_LE(s[i].separation, s[i - 1].separation);
+    }
     // each prediction is that model's own steady speed at that rate, simulated alone
     SteadyStateTable one = table;
     one.rows.resize(1);

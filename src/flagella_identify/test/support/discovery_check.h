@@ -38,11 +38,13 @@ inline CaseOutcome runCase(const std::string& name, int seed) {
   out.result = identification.run();
   // Nested fits start at the baseline's optimum with the effect off and never end above their
   // start (fit.h), so no fitted candidate may end above the calibrated baseline.
-  for (const ModelOutcome& m : out.result.candidates)
-    if (m.fitted)
+  for (const ModelOutcome& m : out.result.candidates) {
+    if (m.fitted) {
       EXPECT_LE(m.train_chi_square, out.result.baseline.train_chi_square * (1.0 + 1e-9))
           << m.label << " ended above the baseline it contains (" << name << ", seed " << seed
           << ")";
+    }
+  }
   std::cout << out.generated.description << "\n  -> " << verdictText(out.result.verdict) << ": "
             << out.result.summary << std::endl;
   return out;
