@@ -32,8 +32,8 @@ int beamCommand(const BeamOptions& o) {
   d.C_t = probe.parameter("effects.stokes_head.C_t");
   d.C_r = probe.parameter("effects.stokes_head.C_r");
   d.head_radius = probe.parameter("effects.stokes_head.head_radius");
-  for (const EffectSpec& e : c.effects)
-    if (e.name == RftDrag::kName) d.log_form = parseRftLogForm(e.option("log_form"));
+  if (const EffectSpec* rft = c.effect(RftDrag::kName))
+    d.log_form = parseRftLogForm(rft->option("log_form"));
   const double omega = std::abs(c.motor.omega);
   std::vector<beam::BeamRegime> regimes;
   if (o.regime == "LB" || o.regime == "all") regimes.push_back(beam::BeamRegime::kLinear);

@@ -19,12 +19,6 @@ constexpr int kHelicalHeadNodes = 4;
 // Stokeslet segments act on x_3 .. x_{N-1} (docs/model.md 4).
 constexpr int kFirstStokesletNode = 3;
 
-bool hasEffect(const SimulationConfig& c, const std::string& name) {
-  for (const EffectSpec& e : c.effects)
-    if (e.name == name) return true;
-  return false;
-}
-
 double physicalMemoryBytes() {
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
   return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0.0;
@@ -52,7 +46,7 @@ std::string secondsText(double seconds) {
 
 ProblemSize estimateProblemSize(const SimulationConfig& c) {
   ProblemSize size;
-  if (!c.isHelical() || !hasEffect(c, RssHydrodynamics::kName)) return size;
+  if (!c.isHelical() || !c.effect(RssHydrodynamics::kName)) return size;
   // Before rounding, as validateEdgeCount: no int overflow for absurd sizes.
   const double helix_nodes = c.helical.arcLength() / c.helical.edge_length + 1.0;
   const double nodes = kHelicalHeadNodes + helix_nodes;

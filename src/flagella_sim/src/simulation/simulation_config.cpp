@@ -202,9 +202,7 @@ void parseSlider(FieldReader r, SimulationConfig& c) {
       r.number("initial_position", s.initial_position, -kMaxTravel, kMaxTravel, "m");
   r.rejectUnknown();
   s.validate();
-  bool has_couple = false;
-  for (const EffectSpec& e : c.effects) has_couple = has_couple || e.name == ComOffset::kName;
-  if (!has_couple)
+  if (!c.effect(ComOffset::kName))
     throw ConfigError(r.path() +
                       " needs effects.com_offset: the slider shifts that couple's offset l");
 }

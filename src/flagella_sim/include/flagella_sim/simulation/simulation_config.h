@@ -47,6 +47,12 @@ struct SimulationConfig {
   bool size_check = true;
 
   bool isHelical() const { return robot_name == "helical"; }
+  /// The configured effect of this registry name (e.g. ComOffset::kName), or nullptr.
+  const EffectSpec* effect(const std::string& name) const {
+    for (const EffectSpec& e : effects)
+      if (e.name == name) return &e;
+    return nullptr;
+  }
   /// The robot's sizes effects take their defaults from.
   RobotDimensions robotDimensions() const;
 };
