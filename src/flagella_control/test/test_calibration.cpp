@@ -237,8 +237,8 @@ TEST_F(InterfaceCalibration, ConstantSignObeysCirclingKinematics) {
         wrapAngle(r->axis_path_angle - std::atan2(r->body_velocity[1], r->body_velocity[0])), 0.0,
         0.02);
     // The config gives a circle of about one tail length (Ch.4): order-of-magnitude sanity.
-    EXPECT_GT(r->circle_radius, 0.2 * config_->geometry.tail_length);
-    EXPECT_LT(r->circle_radius, 5.0 * config_->geometry.tail_length);
+    EXPECT_GT(r->circle_radius, 0.2 * config_->robot->filamentLength());
+    EXPECT_LT(r->circle_radius, 5.0 * config_->robot->filamentLength());
   }
 }
 

@@ -56,7 +56,7 @@ SquareRun followSquare(const flagella::SimulationConfig& config,
   });
   r.halted = session.halted();
   r.time = session.time();
-  const double l = config.geometry.tail_length;
+  const double l = config.robot->filamentLength();
   std::printf(
       "[ lcm path ] %s on the square: %s at t = %.1f s; cross-track max %.1f mm (%.3f l), RMS "
       "%.1f mm (%.3f l); position estimate error max %.1f mm\n",
@@ -78,7 +78,7 @@ TEST(LcmPathFollowing, ControllerCoreDrivesTheSimulatorAroundASquare) {
   const SquareRun r = followSquare(
       config, [&]() -> fc::PathControllerBase& { return controller; },
       [&]() { return controller.estimatedPosition(); });
-  const double l = config.geometry.tail_length;
+  const double l = config.robot->filamentLength();
   EXPECT_TRUE(r.finished);
   EXPECT_FALSE(r.halted);
   // The square's side is 0.3 m = 2.7 l; the robot turns on a circle of about 1 l, so corners

@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
     const double simulated =
         2.0 * (options.settle_time + options.measure_time) +
         (options.settle_periods + options.measure_periods) * options.switch_period;
-    const double tail = config.geometry.tail_length;
+    const double tail = config.robot->filamentLength();
     std::printf("constant sign (output frame, z up; counter-clockwise positive):\n");
     printSign("+omega", c.plus, tail);
     printSign("-omega", c.minus, tail);

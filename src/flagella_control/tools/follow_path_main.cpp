@@ -133,7 +133,7 @@ void printResult(const Arguments& a, const flagella::SimulationConfig& config,
                  const fc::PathSpec& spec, const fc::BinaryCalibration& calibration,
                  const fc::PathControllerBase& controller, const fc::TimedController& timed,
                  const fc::HarnessReport& report, const fc::TrackingStats& stats, bool finished) {
-  const double l = config.geometry.tail_length;
+  const double l = config.robot->filamentLength();
   std::printf("%s on %s: %s after %.1f s simulated (%.1f s wall, %.1fx real time)\n",
               controller.name(), spec.description.c_str(),
               finished ? "path complete" : "NOT complete", report.sim_time, report.wall_seconds,

@@ -154,8 +154,10 @@ TEST(Candidates, WrittenIntoTheConfigOfAnExperiment) {
       for (const auto& [name, value] : e.parameters)
         if (name == "yield_force") yield = value == 4e-4;
   EXPECT_TRUE(yield);
-  EXPECT_EQ(c.geometry.tail_length_scale, (std::vector<double>{0.8, 1.0, 1.0}));
-  EXPECT_EQ(c.geometry.tail_stiffness_scale, (std::vector<double>{1.5, 1.0, 1.0}));
+  EXPECT_EQ(c.robotGeometry<MultiTailGeometry>().tail_length_scale,
+            (std::vector<double>{0.8, 1.0, 1.0}));
+  EXPECT_EQ(c.robotGeometry<MultiTailGeometry>().tail_stiffness_scale,
+            (std::vector<double>{1.5, 1.0, 1.0}));
 }
 
 TEST(Candidates, NotIdentifiableWithoutTheirObservables) {

@@ -91,8 +91,8 @@ SimNode::SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
 
   const auto& net = session_->simulation().network();
   ROS_INFO_STREAM("flagella_sim: "
-                  << config.robot_name << " from " << options_.config_path << ", " << net.numNodes()
-                  << " nodes, dt " << config.dt << " s, "
+                  << config.robotType() << " from " << options_.config_path << ", "
+                  << net.numNodes() << " nodes, dt " << config.dt << " s, "
                   << (options_.real_time_factor > 0.0
                           ? std::to_string(options_.real_time_factor) + "x real time"
                           : std::string("as fast as possible"))

@@ -103,7 +103,7 @@ RodResult simulateRod(const DesignCase& dc, int edges) {
       configPath(dc.config_file),
       {"robot.n_tails=2", "motor.omega_rpm=" + std::to_string(kMotorRpm),
        "simulation.duration=" + std::to_string(dc.duration), "simulation.steady_fraction=0.5"});
-  config.geometry.tail_edges = edges;
+  config.editRobotGeometry<MultiTailGeometry>().tail_edges = edges;
   const auto start = std::chrono::steady_clock::now();
   Simulation sim(config);
   sim.setRecordNodes(true);
@@ -148,24 +148,24 @@ RodResult simulateRod(const DesignCase& dc, int edges) {
   r.tail_asymmetry = std::abs(w_tail[0] - w_tail[1]) / r.tip_deflection;
 
   r.edges = edges;
-  r.edge_length = config.geometry.tail_length / edges;
+  r.edge_length = config.robotGeometry<MultiTailGeometry>().tail_length / edges;
   r.omega_h = m.omega_h;
   r.omega_t = m.omega_t;
   r.speed = m.speed;
 
   beam::BeamDesign& d = r.design;
-  d.n_tails = config.geometry.n_tails;
-  d.tail_length = config.geometry.tail_length;
-  d.tail_radius = config.geometry.tail_material.radius;
-  d.youngs_modulus = config.geometry.tail_material.youngs_modulus;
-  d.disc_radius = config.geometry.disc_radius;
+  d.n_tails = config.robotGeometry<MultiTailGeometry>().n_tails;
+  d.tail_length = config.robotGeometry<MultiTailGeometry>().tail_length;
+  d.tail_radius = config.robotGeometry<MultiTailGeometry>().tail_material.radius;
+  d.youngs_modulus = config.robotGeometry<MultiTailGeometry>().tail_material.youngs_modulus;
+  d.disc_radius = config.robotGeometry<MultiTailGeometry>().disc_radius;
   d.head_radius = sim.parameter("effects.stokes_head.head_radius");
   d.C_t = sim.parameter("effects.stokes_head.C_t");
   d.C_r = sim.parameter("effects.stokes_head.C_r");
   d.viscosity = sim.parameter("medium.viscosity");
   d.log_form =
       RftLogForm::kTwoLengthOverRadius;  // docs/model.md 8.1/8.2: ln(2L/r0) (Eq. 2.10 / 3.3)
-  d.include_tail_axial_drag = true;  // the rod's head-drag balance is the net tail force
+  d.include_tail_axial_drag = true;      // the rod's head-drag balance is the net tail force
   r.propulsive_force = d.C_t * 6.0 * M_PI * d.viscosity * d.head_radius * r.speed / d.n_tails;
   return r;
 }

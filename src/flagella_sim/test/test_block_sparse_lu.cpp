@@ -343,7 +343,7 @@ TEST(BlockSparseLu, StepperFallsBackToKluWhenRefusedInPlace) {
     std::vector<EffectPtr> effects;
     for (const EffectSpec& spec : config.effects)
       effects.push_back(makeEffect(spec, config.medium, config.robotDimensions()));
-    const RodNetwork net = buildMultiTailRobot(config.geometry);
+    const RodNetwork net = config.robot->build();
     const int tip = RodNetwork::positionIndex(net.parts.tail_nodes.front().back());
     effects.push_back(std::make_unique<SwitchedAnchor>(tip, 5.5 * config.dt, kAnchorStiffness));
     ImplicitStepper stepper(net, std::move(effects), config.medium, options);

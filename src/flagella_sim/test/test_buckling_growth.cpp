@@ -69,11 +69,12 @@ TEST(BucklingGrowth, TheSourceRobotsLoadWithTheirModuliAndAPitchResistingHead) {
   double radius = 0.0, c_t = 0.0, c_r = 0.0;
   for (const auto& [name, modulus] : robots) {
     const SimulationConfig c = loadSimulationConfig(std::string(kConfigDir) + "/" + name);
-    ASSERT_TRUE(c.isHelical()) << name;
-    EXPECT_EQ(c.helical.flagellum.youngs_modulus, modulus) << name;
-    EXPECT_EQ(c.helical.pitch_count, 3.5) << name;
-    if (radius == 0.0) radius = c.helical.flagellum.radius;
-    EXPECT_EQ(c.helical.flagellum.radius, radius) << name << ": one mould for all";
+    ASSERT_EQ(c.robotType(), "helical") << name;
+    EXPECT_EQ(c.robotGeometry<HelicalGeometry>().flagellum.youngs_modulus, modulus) << name;
+    EXPECT_EQ(c.robotGeometry<HelicalGeometry>().pitch_count, 3.5) << name;
+    if (radius == 0.0) radius = c.robotGeometry<HelicalGeometry>().flagellum.radius;
+    EXPECT_EQ(c.robotGeometry<HelicalGeometry>().flagellum.radius, radius)
+        << name << ": one mould for all";
     Simulation sim(c);
     EXPECT_EQ(sim.parameter("effects.stokes_head.tilt_drag"), 1.0) << name;
     // One head, one pair of coefficients, fitted with the configs' one eps (docs/model.md 8.4.1).
@@ -85,7 +86,7 @@ TEST(BucklingGrowth, TheSourceRobotsLoadWithTheirModuliAndAPitchResistingHead) {
   }
   const SimulationConfig three = loadSimulationConfig(
       std::string(kConfigDir) + "/helical_shore22.yaml", {"robot.pitch_count=3"});
-  EXPECT_EQ(three.helical.pitch_count, 3.0);
+  EXPECT_EQ(three.robotGeometry<HelicalGeometry>().pitch_count, 3.0);
 }
 
 }  // namespace

@@ -142,9 +142,9 @@ TEST(ConfigValidation, AnOutputIntervalBelowTheStepNamesBothFields) {
 TEST(ConfigBaseline, SmallConfigLoadsWithItsValues) {
   const TempDir dir;
   const SimulationConfig c = loadSimulationConfig(dir.write("ok.yaml", ConfigSections().text()));
-  EXPECT_EQ(c.geometry.n_tails, 2);
-  EXPECT_DOUBLE_EQ(c.geometry.tail_length, 0.1);
-  EXPECT_EQ(c.geometry.tail_edges, 10);
+  EXPECT_EQ(c.robotGeometry<MultiTailGeometry>().n_tails, 2);
+  EXPECT_DOUBLE_EQ(c.robotGeometry<MultiTailGeometry>().tail_length, 0.1);
+  EXPECT_EQ(c.robotGeometry<MultiTailGeometry>().tail_edges, 10);
   EXPECT_DOUBLE_EQ(c.medium.viscosity(), 2.0);
   EXPECT_NEAR(c.motor.omega, units::rpmToRadPerSec(60.0), kExactTol);
   ASSERT_EQ(c.effects.size(), 2u);
@@ -393,7 +393,8 @@ TEST(Structure, TailEdgeLengthAloneSetsTheEdgeCount) {
   ConfigSections s;
   s.robot = "robot:\n  tail_length: 0.1\n  tail_edge_length: 0.004\n";
   const SimulationConfig c = loadSimulationConfig(dir.write("c.yaml", s.text()));
-  EXPECT_EQ(c.geometry.tail_edges, static_cast<int>(std::lround(0.1 / kEdgeLength)));
+  EXPECT_EQ(c.robotGeometry<MultiTailGeometry>().tail_edges,
+            static_cast<int>(std::lround(0.1 / kEdgeLength)));
 }
 
 TEST(Structure, PerTailListsNeedOneEntryPerTail) {
@@ -407,11 +408,11 @@ TEST(Structure, PerTailListsNeedOneEntryPerTail) {
     // The same list is valid with three tails.
     SimulationConfig c;
     ASSERT_NO_THROW(c = loadSimulationConfig(path, {three, "robot.n_tails=3"}));
-    EXPECT_EQ(c.geometry.n_tails, 3);
+    EXPECT_EQ(c.robotGeometry<MultiTailGeometry>().n_tails, 3);
   }
   const SimulationConfig ok = loadSimulationConfig(path, {"robot.tail_length_scale=[0.5, 2.0]"});
-  ASSERT_EQ(ok.geometry.tail_length_scale.size(), 2u);
-  EXPECT_DOUBLE_EQ(ok.geometry.tail_length_scale[1], 2.0);
+  ASSERT_EQ(ok.robotGeometry<MultiTailGeometry>().tail_length_scale.size(), 2u);
+  EXPECT_DOUBLE_EQ(ok.robotGeometry<MultiTailGeometry>().tail_length_scale[1], 2.0);
 }
 
 TEST(Structure, NonMapRootIsRejected) {
@@ -466,18 +467,19 @@ TEST(ConfigFile, MissingFileIsAConfigErrorNamingThePath) {
 TEST(Overrides, ApplyToExistingAndNewFields) {
   const std::string path = shippedConfig(kDesign1);
   const SimulationConfig base = loadSimulationConfig(path);
-  ASSERT_EQ(base.geometry.n_tails, 2);
+  ASSERT_EQ(base.robotGeometry<MultiTailGeometry>().n_tails, 2);
   const SimulationConfig c = loadSimulationConfig(
       path, {"robot.n_tails=3", "motor.omega_rpm=60", "medium.up=[0, 0, 2]",
              "solver.max_iterations=7", "simulation.duration=1.5", "robot.spoke_phase_deg=90"});
-  EXPECT_EQ(c.geometry.n_tails, 3);
+  EXPECT_EQ(c.robotGeometry<MultiTailGeometry>().n_tails, 3);
   EXPECT_NEAR(c.motor.omega, units::rpmToRadPerSec(60.0), kExactTol);
   EXPECT_NEAR((c.medium.up - Vec3::UnitZ()).norm(), 0.0, kExactTol);  // normalised
   EXPECT_EQ(c.solver.max_iterations, 7);
   EXPECT_DOUBLE_EQ(c.duration, 1.5);
-  EXPECT_NEAR(c.geometry.spoke_phase, M_PI / 2, kExactTol);
+  EXPECT_NEAR(c.robotGeometry<MultiTailGeometry>().spoke_phase, M_PI / 2, kExactTol);
   // Untouched fields keep the file's values.
-  EXPECT_DOUBLE_EQ(c.geometry.tail_length, base.geometry.tail_length);
+  EXPECT_DOUBLE_EQ(c.robotGeometry<MultiTailGeometry>().tail_length,
+                   base.robotGeometry<MultiTailGeometry>().tail_length);
   EXPECT_DOUBLE_EQ(c.medium.viscosity(), base.medium.viscosity());
 }
 
@@ -489,7 +491,7 @@ TEST(Overrides, LaterOverridesWinAndCreateSections) {
   const SimulationConfig c = loadSimulationConfig(
       path,
       {"robot.n_tails=3", "robot.n_tails=4", "solver.max_iterations=9", "effects.gravity={}"});
-  EXPECT_EQ(c.geometry.n_tails, 4);
+  EXPECT_EQ(c.robotGeometry<MultiTailGeometry>().n_tails, 4);
   EXPECT_EQ(c.solver.max_iterations, 9);
   bool has_gravity = false;
   for (const EffectSpec& e : c.effects) has_gravity = has_gravity || e.name == "gravity";
@@ -520,7 +522,8 @@ TEST(Overrides, NullMeansTheDefault) {
   // docs: a field set to null takes its default, for every kind of field.
   const std::string path = shippedConfig(kDesign1);
   const SimulationConfig plain = loadSimulationConfig(path, {"robot.tail_edge_length=null"});
-  EXPECT_EQ(plain.geometry.tail_edges, loadSimulationConfig(path).geometry.tail_edges);
+  EXPECT_EQ(plain.robotGeometry<MultiTailGeometry>().tail_edges,
+            loadSimulationConfig(path).robotGeometry<MultiTailGeometry>().tail_edges);
   EXPECT_EQ(loadSimulationConfig(path, {"motor.omega_rpm=~"}).motor.omega, 0.0);
   EXPECT_EQ(loadSimulationConfig(path, {"motor.mode=null"}).motor.mode, "constant");
 }

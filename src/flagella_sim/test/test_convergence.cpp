@@ -87,7 +87,7 @@ SummaryMetrics simulate(SimulationConfig config, const std::string& label) {
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("[convergence] %-28s dt %.4g s, %3d edges/tail: wall %.1f s\n", label.c_str(),
-              config.dt, config.geometry.tail_edges, wall);
+              config.dt, config.robotGeometry<MultiTailGeometry>().tail_edges, wall);
   return sim.summary();
 }
 
@@ -101,7 +101,7 @@ SimulationConfig design1(double dt, int tail_edges) {
       {"robot.n_tails=2", "motor.omega_rpm=100", "simulation.steady_fraction=0.5",
        "simulation.duration=" + std::to_string(kDesign1Duration), kTightNewton});
   c.dt = dt;
-  c.geometry.tail_edges = tail_edges;
+  c.editRobotGeometry<MultiTailGeometry>().tail_edges = tail_edges;
   return c;
 }
 
@@ -111,7 +111,8 @@ SimulationConfig interfaceRobot(double dt, int tail_edges) {
       {"simulation.duration=" + std::to_string(kInterfaceDuration),
        "simulation.steady_fraction=" + std::to_string(kInterfaceSteadyFraction), kTightNewton});
   c.dt = dt;
-  c.geometry.tail_edges = tail_edges;  // the config's 4 mm edges give 28 (0.11 m / 4 mm rounded)
+  c.editRobotGeometry<MultiTailGeometry>().tail_edges =
+      tail_edges;  // the config's 4 mm edges give 28 (0.11 m / 4 mm rounded)
   return c;
 }
 

@@ -392,8 +392,8 @@ TEST(HelicalConfig, AxialLengthGivesThePitchCount) {
   const TempDir dir;
   const SimulationConfig c =
       loadSimulationConfig(dir.write("ok.yaml", helicalConfig("  axial_length: 0.144\n")));
-  EXPECT_NEAR(c.helical.pitch_count, 4.0, 1e-12);
-  EXPECT_NEAR(c.helical.axialLength(), 0.144, 1e-15);
+  EXPECT_NEAR(c.robotGeometry<HelicalGeometry>().pitch_count, 4.0, 1e-12);
+  EXPECT_NEAR(c.robotGeometry<HelicalGeometry>().axialLength(), 0.144, 1e-15);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -404,8 +404,8 @@ TEST(HelicalConfig, ShippedRobotConfigParses) {
   // the source's Shore 32 robot with the filament radius calibrated on its Shore 22 twin
   constexpr double kFilamentRadius = kShippedFilamentRadius;
   const SimulationConfig c = loadSimulationConfig(shippedConfig("helical_robot.yaml"));
-  ASSERT_TRUE(c.isHelical());
-  const HelicalGeometry& g = c.helical;
+  ASSERT_EQ(c.robotType(), "helical");
+  const HelicalGeometry& g = c.robotGeometry<HelicalGeometry>();
   EXPECT_DOUBLE_EQ(g.helix_radius, kHelixRadius);
   EXPECT_DOUBLE_EQ(g.pitch, kPitch);
   EXPECT_DOUBLE_EQ(g.pitch_count, kPitchCount);
@@ -434,8 +434,8 @@ TEST(HelicalConfig, ShippedRobotConfigParses) {
 
 TEST(HelicalConfig, ShippedGimbalConfigParses) {
   const SimulationConfig c = loadSimulationConfig(shippedConfig("helical_gimbal.yaml"));
-  ASSERT_TRUE(c.isHelical());
-  EXPECT_EQ(c.helical.mount, HelicalMount::kGimbal);
+  ASSERT_EQ(c.robotType(), "helical");
+  EXPECT_EQ(c.robotGeometry<HelicalGeometry>().mount, HelicalMount::kGimbal);
   const Simulation sim(c);
   const std::vector<bool>& fixed = sim.network().fixed_dof;
   EXPECT_EQ(std::count(fixed.begin(), fixed.end(), true), 4);
@@ -449,8 +449,8 @@ TEST(HelicalConfig, ShippedGimbalConfigParses) {
 
 TEST(HelicalConfig, MultiTailStaysTheDefault) {
   const SimulationConfig c = loadSimulationConfig(shippedConfig("granular_design1.yaml"));
-  EXPECT_FALSE(c.isHelical());
-  EXPECT_EQ(c.robot_name, "multi_tail");
+  EXPECT_EQ(c.findRobotGeometry<HelicalGeometry>(), nullptr);
+  EXPECT_EQ(c.robotType(), "multi_tail");
 }
 
 // ---------------------------------------------------------------------------------------------

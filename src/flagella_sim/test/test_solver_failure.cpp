@@ -61,7 +61,7 @@ ImplicitStepper makeStepper(const SimulationConfig& c) {
   std::vector<EffectPtr> effects;
   for (const EffectSpec& spec : c.effects)
     effects.push_back(makeEffect(spec, c.medium, c.robotDimensions()));
-  return ImplicitStepper(buildMultiTailRobot(c.geometry), std::move(effects), c.medium, c.solver);
+  return ImplicitStepper(c.robot->build(), std::move(effects), c.medium, c.solver);
 }
 
 bool allFinite(const RodState& s) {

@@ -1,4 +1,5 @@
-// flagella_run: headless runner of the rod-network simulator (run, sweep, beam, params, effects).
+// flagella_run: headless runner of the rod-network simulator (run, sweep, beam, params, effects,
+// robots).
 #include <CLI/CLI.hpp>
 #include <iomanip>
 #include <iostream>
@@ -115,6 +116,11 @@ int main(int argc, char** argv) {
       app.add_subcommand("effects", "list every effect a config can switch on, with its schema");
   effects_cmd->add_flag("--markdown", effects_markdown, "print the README's effect table");
 
+  bool robots_markdown = false;
+  CLI::App* robots_cmd =
+      app.add_subcommand("robots", "list every robot type a config can name, with its fields");
+  robots_cmd->add_flag("--markdown", robots_markdown, "print the README's robot tables");
+
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
   return flagella::cli::runGuarded([&] {
     if (*run_cmd) {
@@ -131,6 +137,7 @@ int main(int argc, char** argv) {
     }
     if (*params_cmd) return paramsCommand(params);
     if (*effects_cmd) return effectsCommand(effects_markdown);
+    if (*robots_cmd) return robotsCommand(robots_markdown);
     return 0;
   });
 }

@@ -14,16 +14,16 @@ namespace flagella::cli {
 
 int beamCommand(const BeamOptions& o) {
   const SimulationConfig c = loadSimulationConfig(o.config, o.overrides);
-  if (c.isHelical())
-    throw ConfigError(o.config +
-                      ": robot.type helical: the beam model (docs/model.md 6) is for "
-                      "the multi-tail robots");
+  const MultiTailGeometry* g = c.findRobotGeometry<MultiTailGeometry>();
+  if (!g)
+    throw ConfigError(o.config + ": robot.type " + c.robotType() +
+                      ": the beam model (docs/model.md 6) is for the multi-tail robots");
   beam::BeamDesign d;
-  d.n_tails = c.geometry.n_tails;
-  d.tail_length = c.geometry.tail_length;
-  d.tail_radius = c.geometry.tail_material.radius;
-  d.youngs_modulus = c.geometry.tail_material.youngs_modulus;
-  d.disc_radius = c.geometry.disc_radius;
+  d.n_tails = g->n_tails;
+  d.tail_length = g->tail_length;
+  d.tail_radius = g->tail_material.radius;
+  d.youngs_modulus = g->tail_material.youngs_modulus;
+  d.disc_radius = g->disc_radius;
   d.head_radius = c.head_radius;
   d.viscosity = c.medium.viscosity();
   d.log_form = RftLogForm::kTwoLengthOverRadius;

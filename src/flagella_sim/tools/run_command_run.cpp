@@ -19,14 +19,6 @@ namespace flagella::cli {
 
 namespace {
 
-// "n = 2" for a multi-tail robot, "helical, 3.5 pitches" for the helical one.
-std::string robotLabel(const SimulationConfig& c) {
-  if (!c.isHelical()) return "n = " + std::to_string(c.geometry.n_tails);
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "helical, %g pitches", c.helical.pitch_count);
-  return buf;
-}
-
 // The circle radius, or why there is none: a path that turned by less than kMinCircleTurn over
 // the steady window is nearly straight, and a fitted radius of kilometres says nothing.
 std::string circleText(const SummaryMetrics& m) {
@@ -52,14 +44,14 @@ void printSummary(const SimulationConfig& c, const SummaryMetrics& m, std::ostre
                 "  yaw rate = %.5f rad/s, circle radius = %s\n"
                 "  efficiency = %s\n"
                 "  Newton iterations = %ld, subdivided steps = %ld\n",
-                c.source.c_str(), robotLabel(c).c_str(), units::radPerSecToRpm(c.motor.omega),
+                c.source.c_str(), c.robot->label().c_str(), units::radPerSecToRpm(c.motor.omega),
                 m.window_start, m.window_end, units::radPerSecToRpm(m.omega_h), m.omega_h,
                 units::radPerSecToRpm(m.omega_t), m.omega_t, units::metresToMm(m.speed), m.yaw_rate,
                 circleText(m).c_str(),
                 m.efficiency_valid ? std::to_string(m.efficiency).c_str() : "n/a",
                 m.newton_iterations, m.subdivided_steps);
   out << buf;
-  if (c.isHelical())  // docs/model.md 8.4.4
+  if (c.robot->hasFlagellumTilt())  // docs/model.md 8.4.4
     out << "  heading change = " << units::radToDeg(m.heading_change)
         << " deg, flagellum tilt max = " << units::radToDeg(m.flagellum_tilt_max) << " deg ("
         << (m.buckled ? "buckled" : "not buckled") << ", threshold " << c.buckling_tilt_deg

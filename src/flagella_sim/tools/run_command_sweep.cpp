@@ -83,7 +83,7 @@ int sweepCommand(const SweepOptions& o) {
       omega << std::setprecision(17) << rpm;
       overrides.push_back("motor.omega_rpm=" + omega.str());
       SimulationConfig config = loadSimulationConfig(o.config, overrides);
-      const int count = config.isHelical() ? 1 : config.geometry.n_tails;
+      const int count = config.robot->tailCount();
       cases.push_back({count, rpm, std::move(config), {}});
     }
   std::filesystem::create_directories(o.out_dir);
@@ -129,8 +129,10 @@ int sweepCommand(const SweepOptions& o) {
         << units::radPerSecToRpm(m.omega_t) << "," << units::metresToMm(m.speed) << ","
         << m.yaw_rate << "," << (m.efficiency_valid ? std::to_string(m.efficiency) : "") << ","
         << (c.result.failed ? 1 : 0) << ","
-        << (c.config.isHelical() ? std::to_string(units::radToDeg(m.flagellum_tilt_max)) : "")
-        << "," << (c.config.isHelical() ? (m.buckled ? "1" : "0") : "") << "\n";
+        << (c.config.robot->hasFlagellumTilt()
+                ? std::to_string(units::radToDeg(m.flagellum_tilt_max))
+                : "")
+        << "," << (c.config.robot->hasFlagellumTilt() ? (m.buckled ? "1" : "0") : "") << "\n";
   }
   out.close();
   std::printf("sweep table: %s\n", table.c_str());

@@ -37,5 +37,7 @@ int paramsCommand(const CommonOptions& o);
 /// Lists every registered effect (options, parameters, discovery variables); `markdown`: the
 /// README's effect table.
 int effectsCommand(bool markdown);
+/// flagella_run robots: every robot type a config can name (robot.type) with its fields.
+int robotsCommand(bool markdown);
 
 }  // namespace flagella::cli

@@ -1,6 +1,7 @@
 #include "summary_json.h"
 
 #include <nlohmann/json.hpp>
+#include <variant>
 
 #include "flagella_sim/core/units.h"
 
@@ -8,16 +9,10 @@ namespace flagella {
 
 namespace {
 
-// docs/model.md 8.4: the helix that replaces n_tails and tail_length in the summary.
-void addHelicalRobot(const HelicalGeometry& g, nlohmann::ordered_json& j) {
-  j["robot"] = "helical";
-  j["pitch_count"] = g.pitch_count;
-  j["pitch_m"] = g.pitch;
-  j["helix_radius_m"] = g.helix_radius;
-  j["axial_length_m"] = g.axialLength();
-  j["filament_radius_m"] = g.flagellum.radius;
-  j["handedness"] = g.handedness == kLeftHanded ? "left" : "right";
-  j["mount"] = g.mount == HelicalMount::kGimbal ? "gimbal" : "untethered";
+// The robot's own fields (robot_model.h: n_tails and tail_length, or the helix).
+void addRobot(const RobotModel& robot, nlohmann::ordered_json& j) {
+  for (const SummaryField& f : robot.summaryFields())
+    std::visit([&](const auto& value) { j[f.key] = value; }, f.value);
 }
 
 // docs/model.md 8.4.4: heading change and buckling indicator.
@@ -34,12 +29,7 @@ void addBucklingMetrics(const SimulationConfig& c, const SummaryMetrics& m,
 std::string summaryJson(const SimulationConfig& c, const SummaryMetrics& m, double wall_seconds) {
   nlohmann::ordered_json j;
   j["config"] = c.source;
-  if (c.isHelical()) {
-    addHelicalRobot(c.helical, j);
-  } else {
-    j["n_tails"] = c.geometry.n_tails;
-    j["tail_length_m"] = c.geometry.tail_length;
-  }
+  addRobot(*c.robot, j);
   j["dt_s"] = c.dt;
   j["duration_s"] = m.window_end;
   j["steady_window_s"] = {m.window_start, m.window_end};
@@ -62,7 +52,7 @@ std::string summaryJson(const SimulationConfig& c, const SummaryMetrics& m, doub
   j["axis_path_angle_deg"] = units::radToDeg(m.axis_path_angle);
   j["efficiency"] =
       m.efficiency_valid ? nlohmann::ordered_json(m.efficiency) : nlohmann::ordered_json(nullptr);
-  if (c.isHelical()) addBucklingMetrics(c, m, j);
+  if (c.robot->hasFlagellumTilt()) addBucklingMetrics(c, m, j);
   j["newton_iterations"] = m.newton_iterations;
   j["subdivided_steps"] = m.subdivided_steps;
   j["damped_steps"] = m.damped_steps;

@@ -44,7 +44,7 @@ TiltRecord recordTilt(Simulation& sim, double turns, double settle_turns, double
   TiltRecord r;
   const SimulationConfig& c = sim.config();
   const std::vector<int> helix = helixNodes(sim.network().parts);
-  const double per_turn = c.helical.edgesPerTurn();
+  const double per_turn = c.robotGeometry<HelicalGeometry>().edgesPerTurn();
   const int head_edge = sim.network().parts.head_edge;
   const int shaft_theta = sim.network().thetaIndex(sim.network().parts.shaft_edge);
   const double angle0 = sim.state().q(shaft_theta);
@@ -126,7 +126,8 @@ GrowthProbe runGrowthProbe(const SimulationConfig& config, double rpm,
   const auto t0 = std::chrono::steady_clock::now();
   try {
     const SimulationConfig c = atConstantRate(config, rpm);
-    if (!c.isHelical()) throw std::invalid_argument("growth rate: needs a helical robot");
+    if (!c.findRobotGeometry<HelicalGeometry>())
+      throw std::invalid_argument("growth rate: needs a helical robot");
     Simulation sim(c);
     const double motor_turn = 60.0 / rpm;  // [s]
     const TiltRecord r =

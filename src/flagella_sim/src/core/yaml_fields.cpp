@@ -34,8 +34,16 @@ YAML::Node FieldReader::get(const std::string& key) {
   return node_[key];
 }
 
+void FieldReader::describe(const std::string& key, std::string fallback, std::string range,
+                           std::string unit) {
+  if (schema_)
+    schema_->push_back({field(key), std::move(fallback), std::move(range), std::move(unit)});
+}
+
 double FieldReader::number(const std::string& key, double fallback, double min, double max,
                            const std::string& unit) {
+  describe(key, formatNumber(fallback), "[" + formatNumber(min) + ", " + formatNumber(max) + "]",
+           unit);
   const YAML::Node v = get(key);
   if (!v || v.IsNull()) return fallback;
   double value = 0.0;
@@ -50,6 +58,8 @@ double FieldReader::number(const std::string& key, double fallback, double min, 
 }
 
 int FieldReader::integer(const std::string& key, int fallback, int min, int max) {
+  describe(key, std::to_string(fallback),
+           "integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]");
   const YAML::Node v = get(key);
   if (!v || v.IsNull()) return fallback;
   int value = 0;
@@ -66,6 +76,7 @@ int FieldReader::integer(const std::string& key, int fallback, int min, int max)
 }
 
 bool FieldReader::flag(const std::string& key, bool fallback) {
+  describe(key, fallback ? "true" : "false", "true or false");
   const YAML::Node v = get(key);
   if (!v || v.IsNull()) return fallback;
   try {
@@ -77,6 +88,7 @@ bool FieldReader::flag(const std::string& key, bool fallback) {
 
 std::string FieldReader::choice(const std::string& key, const std::string& fallback,
                                 const std::vector<std::string>& allowed) {
+  describe(key, fallback, "one of: " + joined(allowed));
   const YAML::Node v = get(key);
   if (!v || v.IsNull()) return fallback;
   if (!v.IsScalar())
@@ -89,6 +101,10 @@ std::string FieldReader::choice(const std::string& key, const std::string& fallb
 }
 
 Vec3 FieldReader::vector3(const std::string& key, const Vec3& fallback) {
+  describe(key,
+           "[" + formatNumber(fallback(0)) + ", " + formatNumber(fallback(1)) + ", " +
+               formatNumber(fallback(2)) + "]",
+           "3 finite numbers");
   const YAML::Node v = get(key);
   if (!v || v.IsNull()) return fallback;
   if (!v.IsSequence() || v.size() != 3)
@@ -107,6 +123,7 @@ Vec3 FieldReader::vector3(const std::string& key, const Vec3& fallback) {
 }
 
 std::vector<double> FieldReader::numberList(const std::string& key, double min, double max) {
+  describe(key, "", "list of numbers in [" + formatNumber(min) + ", " + formatNumber(max) + "]");
   const YAML::Node v = get(key);
   std::vector<double> out;
   if (!v || v.IsNull()) return out;
@@ -127,7 +144,11 @@ std::vector<double> FieldReader::numberList(const std::string& key, double min, 
   return out;
 }
 
-FieldReader FieldReader::child(const std::string& key) { return FieldReader(get(key), field(key)); }
+FieldReader FieldReader::child(const std::string& key) {
+  FieldReader c(get(key), field(key));
+  c.schema_ = schema_;
+  return c;
+}
 
 std::vector<std::string> FieldReader::keys() const {
   std::vector<std::string> out;

@@ -34,7 +34,7 @@ RodSnapshot takeSnapshot(const Simulation& sim, const Eigen::Quaterniond& output
   const Eigen::Matrix3d rotation = output_from_sim.toRotationMatrix();
   RodSnapshot s;
   s.time = state.time;
-  s.robot_name = sim.config().robot_name;
+  s.robot_name = sim.config().robotType();
   s.nodes.reserve(net.numNodes());
   for (int i = 0; i < net.numNodes(); ++i) s.nodes.push_back(rotation * nodePosition(state.q, i));
   for (int j = 0; j < net.numEdges(); ++j) {

@@ -46,9 +46,10 @@ std::string secondsText(double seconds) {
 
 ProblemSize estimateProblemSize(const SimulationConfig& c) {
   ProblemSize size;
-  if (!c.isHelical() || !c.effect(RssHydrodynamics::kName)) return size;
+  const HelicalGeometry* helix = c.findRobotGeometry<HelicalGeometry>();
+  if (!helix || !c.effect(RssHydrodynamics::kName)) return size;
   // Before rounding, as validateEdgeCount: no int overflow for absurd sizes.
-  const double helix_nodes = c.helical.arcLength() / c.helical.edge_length + 1.0;
+  const double helix_nodes = helix->arcLength() / helix->edge_length + 1.0;
   const double nodes = kHelicalHeadNodes + helix_nodes;
   const double dofs = 4.0 * nodes - 1.0;
   const double dense = 3.0 * (nodes - kFirstStokesletNode);
@@ -81,9 +82,10 @@ void requireRunnableSize(const SimulationConfig& c) {
   std::string why =
       too_big ? "more than half of this machine's " + bytesText(2.0 * memory_limit) + " of memory"
               : "more than " + secondsText(kMaxSecondsPerUpdate) + " per factorisation";
-  throw ConfigError("robot: the helix (L_arc = " + formatNumber(c.helical.arcLength()) +
-                    " m, robot.edge_length = " + formatNumber(c.helical.edge_length) +
-                    " m) gives " + describeProblemSize(s) + ", " + why +
+  const HelicalGeometry& helix = c.robotGeometry<HelicalGeometry>();
+  throw ConfigError("robot: the helix (L_arc = " + formatNumber(helix.arcLength()) +
+                    " m, robot.edge_length = " + formatNumber(helix.edge_length) + " m) gives " +
+                    describeProblemSize(s) + ", " + why +
                     " (lengths are in metres: robot.helix_radius, robot.pitch); "
                     "--set solver.size_check=false runs it anyway");
 }

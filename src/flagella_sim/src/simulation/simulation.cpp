@@ -27,10 +27,7 @@ constexpr double kSampleTimeSlack = 1e-9;
 
 }  // namespace
 
-RodNetwork buildRobot(const SimulationConfig& config) {
-  return config.isHelical() ? buildHelicalRobot(config.helical)
-                            : buildMultiTailRobot(config.geometry);
-}
+RodNetwork buildRobot(const SimulationConfig& config) { return config.robot->build(); }
 
 std::shared_ptr<const MotorCommand> makeMotor(const MotorSpec& spec) {
   std::shared_ptr<const MotorCommand> motor;
@@ -142,9 +139,8 @@ TrajectorySample Simulation::sample() const {
     s.yaw = std::atan2(forward_h.dot(e2), forward_h.dot(e1));
     s.yaw_rate = up.dot(forward_h.cross(forward_rate_h)) / forward_h.squaredNorm();
   }
-  if (config_.isHelical())  // docs/model.md 8.4.4
-    s.flagellum_tilt =
-        flagellumTilt(state_.q, helixNodes(parts), config_.helical.edgesPerTurn(), axis);
+  if (const std::optional<double> tilt = config_.robot->flagellumTilt(state_.q, parts, axis))
+    s.flagellum_tilt = *tilt;  // docs/model.md 8.4.4
   s.newton_iterations = newton_iterations_;
   s.subdivided_steps = subdivided_steps_;
   s.damped_steps = damped_steps_;

@@ -19,88 +19,14 @@ namespace {
 
 constexpr double kMaxMotorRpm = 1e4;
 
-void parseMultiTailRobot(FieldReader& r, SimulationConfig& c) {
-  MultiTailGeometry& g = c.geometry;
-  g.n_tails = r.integer("n_tails", 2, 1, 12);
-  g.tail_length = r.number("tail_length", 0.111, 1e-3, 10.0, "m");
-  const bool has_edges = r.has("tail_edges");
-  const bool has_dl = r.has("tail_edge_length");
-  if (has_edges && has_dl)
-    throw ConfigError(r.field("tail_edges") + " and " + r.field("tail_edge_length") +
-                      " are exclusive: give one");
-  g.tail_edges = r.integer("tail_edges", 27, 2, 2000);
-  if (has_dl) {
-    const double dl = r.number("tail_edge_length", 4.11e-3, 1e-5, 1.0, "m");
-    g.tail_edges = std::max(2, static_cast<int>(std::lround(g.tail_length / dl)));
-  }
-  g.tail_material.radius = r.number("tail_radius", 3.2e-3, 1e-5, 0.1, "m");
-  g.tail_material.youngs_modulus = r.number("youngs_modulus", 1.2e6, 1.0, 1e12, "Pa");
-  g.tail_material.poisson_ratio = r.number("poisson_ratio", 0.5, 0.0, 0.5);
-  g.tail_material.density = r.number("density", 1000.0, 1.0, 1e5, "kg/m^3");
-  c.head_radius = r.number("head_radius", 0.02, 1e-4, 1.0, "m");
-  c.head_length = r.number("head_length", 2.0 * c.head_radius, 1e-4, 2.0, "m");
-  g.head_edge_length = r.number("head_edge_length", c.head_radius, 1e-4, 1.0, "m");
-  g.disc_radius = r.number("disc_radius", 0.02, 1e-4, 1.0, "m");
-  g.spoke_phase = units::degToRad(r.number("spoke_phase_deg", 0.0, -360.0, 360.0, "deg"));
-  g.rigid_factor = r.number("rigid_factor", 1e3, 1.0, 1e6);
-  g.tail_length_scale = r.numberList("tail_length_scale", 0.1, 10.0);
-  g.tail_stiffness_scale = r.numberList("tail_stiffness_scale", 1e-3, 1e3);
-  for (const auto* list : {&g.tail_length_scale, &g.tail_stiffness_scale})
-    if (!list->empty() && static_cast<int>(list->size()) != g.n_tails)
-      throw ConfigError(
-          r.field(list == &g.tail_length_scale ? "tail_length_scale" : "tail_stiffness_scale") +
-          " needs one entry per tail (n_tails = " + std::to_string(g.n_tails) + ")");
-  if (g.tail_length / g.tail_edges < 1e-5)
-    throw ConfigError(r.field("tail_edges") + " gives edges shorter than 10 um");
-}
-
-// robot.pitch_count or robot.axial_length (exclusive) sets L_t / lambda.
-void parseHelixLength(FieldReader& r, HelicalGeometry& g) {
-  if (r.has("pitch_count") && r.has("axial_length"))
-    throw ConfigError(r.field("pitch_count") + " and " + r.field("axial_length") +
-                      " are exclusive: give one");
-  g.pitch_count = r.number("pitch_count", g.pitch_count, kMinPitchCount, kMaxPitchCount);
-  if (r.has("axial_length")) {
-    const double L_t = r.number("axial_length", g.axialLength(), 1e-5, 500.0, "m");
-    requireInRange(r.field("axial_length") + " (0.5 to 50 pitches)", L_t, kMinPitchCount * g.pitch,
-                   kMaxPitchCount * g.pitch, "m");
-    g.pitch_count = L_t / g.pitch;
-  }
-}
-
-// docs/model.md 8.4; defaults (HelicalGeometry): the Shore 32 VPS robot with 3.5 pitches.
-void parseHelicalRobot(FieldReader& r, SimulationConfig& c) {
-  HelicalGeometry& g = c.helical;
-  g.helix_radius = r.number("helix_radius", g.helix_radius, 1e-5, 10.0, "m");
-  g.pitch = r.number("pitch", g.pitch, 1e-5, 10.0, "m");
-  parseHelixLength(r, g);
-  g.flagellum.radius = r.number("filament_radius", g.flagellum.radius, 1e-6, 0.1, "m");
-  g.flagellum.youngs_modulus =
-      r.number("youngs_modulus", g.flagellum.youngs_modulus, 1.0, 1e12, "Pa");
-  g.flagellum.poisson_ratio = r.number("poisson_ratio", g.flagellum.poisson_ratio, 0.0, 0.5);
-  g.flagellum.density = r.number("density", g.flagellum.density, 1.0, 1e5, "kg/m^3");
-  g.edge_length = r.number("edge_length", g.edge_length, 1e-5, 1.0, "m");
-  g.head_radius = r.number("head_radius", g.head_radius, 1e-4, 1.0, "m");
-  g.hook_length = r.number("hook_length", g.hook_length, 0.0, 10.0, "m");
-  g.handedness =
-      r.choice("handedness", "left", {"left", "right"}) == "left" ? kLeftHanded : kRightHanded;
-  g.mount = r.choice("mount", "untethered", {"untethered", "gimbal"}) == "gimbal"
-                ? HelicalMount::kGimbal
-                : HelicalMount::kUntethered;
-  g.rigid_factor = r.number("rigid_factor", g.rigid_factor, 1.0, 1e6);
-  validateHelicalGeometry(g);  // cross-field checks: self-intersection, hook, edge count
-  // docs/model.md 5, 8.4.1: R_H is the sphere-equivalent radius, so the head volume
-  // pi a^2 L_head = 4/3 pi R_H^3 with a = R_H, L_head = 4 R_H / 3.
-  c.head_radius = g.head_radius;
-  c.head_length = 4.0 * g.head_radius / 3.0;
-}
-
+// robot.type names the type (robot_registry.h); its descriptor reads the other fields.
 void parseRobot(FieldReader r, SimulationConfig& c) {
-  c.robot_name = r.choice("type", "multi_tail", {"multi_tail", "helical"});
-  if (c.isHelical())
-    parseHelicalRobot(r, c);
-  else
-    parseMultiTailRobot(r, c);
+  const std::vector<std::string> types = registeredRobotNames();
+  const RobotDescriptor* d = findRobotDescriptor(r.choice("type", types.front(), types));
+  RobotHeadSize head;
+  c.robot = d->parse(r, head);
+  c.head_radius = head.radius;
+  c.head_length = head.length;
   r.rejectUnknown();
 }
 
@@ -243,8 +169,8 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
   c.size_check = r.flag("size_check", c.size_check);
   r.rejectUnknown();
   // Scale-aware convergence test (docs/model.md 1.10): forces against EI/L^2, moments against EI/L.
-  const double EI = c.isHelical() ? c.helical.flagellum.EI() : c.geometry.tail_material.EI();
-  const double L = c.isHelical() ? c.helical.axialLength() : c.geometry.tail_length;
+  const double EI = c.robot->filament().EI();
+  const double L = c.robot->filamentLength();
   o.force_scale = EI / (L * L);
   o.moment_scale = EI / L;
   o.length_scale = L;
@@ -256,7 +182,7 @@ RobotDimensions SimulationConfig::robotDimensions() const {
   RobotDimensions d;
   d.head_radius = head_radius;
   d.head_length = head_length;
-  const RodMaterial& filament = isHelical() ? helical.flagellum : geometry.tail_material;
+  const RodMaterial& filament = robot->filament();
   d.body_density = filament.density;
   d.filament_radius = filament.radius;
   return d;

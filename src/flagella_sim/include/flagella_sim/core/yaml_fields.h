@@ -14,6 +14,14 @@
 
 namespace flagella {
 
+/// One field a FieldReader was asked for, as `flagella_run robots` and the README list it.
+struct FieldSchema {
+  std::string field;     ///< dotted name
+  std::string fallback;  ///< the default, as text ("" for none)
+  std::string range;     ///< "[min, max]", "one of: a, b", "true or false", ...
+  std::string unit;
+};
+
 class FieldReader {
  public:
   /// `node` must be a map or absent; `path` is its dotted name ("robot", "effects.rft").
@@ -40,11 +48,20 @@ class FieldReader {
   /// Throws ConfigError if the map holds a key nothing asked for.
   void rejectUnknown() const;
 
+  /// Every later read (of this reader and its children) also appends the field's schema to
+  /// `sink` (nullptr: stop); reading an empty section so lists a parser's fields and defaults.
+  void recordSchema(std::vector<FieldSchema>* sink) { schema_ = sink; }
+  /// Appends a field to the schema being recorded without reading it (a field read only in
+  /// some cases, e.g. one of two exclusive fields).
+  void describe(const std::string& key, std::string fallback, std::string range,
+                std::string unit = "");
+
  private:
   YAML::Node get(const std::string& key);
   YAML::Node node_;
   std::string path_;
   mutable std::set<std::string> used_;  ///< fields asked for (has() included)
+  std::vector<FieldSchema>* schema_ = nullptr;
 };
 
 /// Sets the value at a dotted path ("robot.n_tails") in a YAML tree from a string, creating

@@ -3,6 +3,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "flagella_sim/effects/rft_coefficients.h"
 #include "flagella_sim/robots/helical_robot.h"
 #include "flagella_sim/robots/multi_tail_robot.h"
+#include "flagella_sim/robots/robot_registry.h"
 #include "flagella_sim/solver/newton_options.h"
 
 namespace flagella {
@@ -25,12 +27,11 @@ struct MotorSpec {
 };
 
 struct SimulationConfig {
-  std::string source = "<inline>";        ///< file name, for messages
-  std::string robot_name = "multi_tail";  ///< robot.type: multi_tail | helical
-  MultiTailGeometry geometry;             ///< robot.type multi_tail (docs/model.md 8.1-8.3)
-  HelicalGeometry helical;                ///< robot.type helical (docs/model.md 8.4)
-  double head_radius = 0.02;              ///< a (or R): head drag radius [m] (helical: R_H)
-  double head_length = 0.04;              ///< L_head [m] (helical: 4 R_H / 3, the sphere's volume)
+  std::string source = "<inline>";  ///< file name, for messages
+  /// Section robot: its type (robot.type, robot_registry.h) with its geometry.
+  std::shared_ptr<const RobotModel> robot = defaultRobot();
+  double head_radius = 0.02;  ///< a (or R): head drag radius [m] (helical: R_H)
+  double head_length = 0.04;  ///< L_head [m] (helical: 4 R_H / 3, the sphere's volume)
   Medium medium;
   std::vector<EffectSpec> effects;
   MotorSpec motor;
@@ -46,7 +47,31 @@ struct SimulationConfig {
   /// reasonable time (simulation/problem_size.h).
   bool size_check = true;
 
-  bool isHelical() const { return robot_name == "helical"; }
+  /// robot.type (multi_tail, helical, ...).
+  const std::string& robotType() const { return robot->type(); }
+  /// The robot's geometry if its type has geometry G (MultiTailGeometry, HelicalGeometry), else
+  /// nullptr.
+  template <class G>
+  const G* findRobotGeometry() const {
+    const auto* typed = dynamic_cast<const RobotModelOf<G>*>(robot.get());
+    return typed ? &typed->geometry : nullptr;
+  }
+  /// The same; std::logic_error naming the robot's type if it has another geometry.
+  template <class G>
+  const G& robotGeometry() const {
+    if (const G* g = findRobotGeometry<G>()) return *g;
+    throw std::logic_error("the config's robot (robot.type " + robotType() +
+                           ") has another geometry");
+  }
+  /// The geometry to edit (tests, tools): this config's own copy of the robot (copy-on-write).
+  template <class G>
+  G& editRobotGeometry() {
+    robotGeometry<G>();  // the type check
+    std::shared_ptr<RobotModel> copy = robot->clone();
+    G& g = static_cast<RobotModelOf<G>&>(*copy).geometry;
+    robot = std::move(copy);
+    return g;
+  }
   /// The configured effect of this registry name (e.g. ComOffset::kName), or nullptr.
   const EffectSpec* effect(const std::string& name) const {
     for (const EffectSpec& e : effects)
