@@ -317,7 +317,7 @@ TEST(BlockSparseLu, RefusalInPlaceLeavesTheMatrixToKlu) {
 // from the start and switched on at on_time: a jump in the Jacobian's pivot ratio mid-run.
 // [N/m]: against the robot's mass and elastic pivots, a pivot ratio the block LU refuses
 constexpr double kAnchorStiffness = 1e12;
-class SwitchedAnchor : public Effect {
+class SwitchedAnchor : public Effect, public ForceLaw {
  public:
   SwitchedAnchor(int dof, double on_time, double stiffness)
       : Effect("switched_anchor"), dof_(dof), on_time_(on_time), stiffness_(stiffness) {}

@@ -53,8 +53,9 @@ Fixture makeFixture(unsigned seed) {
 VecX forceAt(const Effect& e, const Fixture& f, const VecX& q) {
   const ReferenceFrames fr = transportFrames(f.net, q, f.frames_start);
   VecX F = VecX::Zero(f.net.ndof());
-  e.addForce({f.net, q, fr, f.q_start, f.qdot_start, f.dt, f.dt, f.medium, f.medium.viscosity()}, F,
-             nullptr);
+  e.as<ForceLaw>()->addForce(
+      {f.net, q, fr, f.q_start, f.qdot_start, f.dt, f.dt, f.medium, f.medium.viscosity()}, F,
+      nullptr);
   return F;
 }
 
@@ -64,8 +65,10 @@ void expectJacobianMatchesFiniteDifferences(Effect& e, unsigned seed) {
   const ReferenceFrames fr = transportFrames(f.net, f.q, f.frames_start);
   DenseSink sink(f.net.ndof());
   VecX F = VecX::Zero(f.net.ndof());
-  e.addForce({f.net, f.q, fr, f.q_start, f.qdot_start, f.dt, f.dt, f.medium, f.medium.viscosity()},
-             F, &sink);
+  ASSERT_NE(e.as<ForceLaw>(), nullptr) << e.name() << " is not a force";
+  e.as<ForceLaw>()->addForce(
+      {f.net, f.q, fr, f.q_start, f.qdot_start, f.dt, f.dt, f.medium, f.medium.viscosity()}, F,
+      &sink);
   ASSERT_TRUE(F.allFinite());
   const double h = 1e-7;
   MatX J_fd(f.net.ndof(), f.net.ndof());

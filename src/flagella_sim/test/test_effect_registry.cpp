@@ -64,8 +64,9 @@ TEST(EffectRegistry, NamesAreUniqueAndEveryDescriptorIsComplete) {
     }
     for (const auto& [parameter, rule] : d->default_rules) EXPECT_NO_THROW(d->parameter(parameter));
     for (const EffectOption& o : d->options)
-      if (!o.isFlag())
+      if (!o.isFlag()) {
         EXPECT_NE(std::find(o.allowed.begin(), o.allowed.end(), o.fallback), o.allowed.end());
+      }
   }
 }
 
@@ -100,7 +101,9 @@ TEST(EffectRegistry, EveryEffectRoundTripsThroughConfigParsing) {
         EXPECT_EQ(built.min, p.min) << p.name;
         EXPECT_EQ(built.max, p.max) << p.name;
         EXPECT_EQ(built.unit, p.unit) << p.name;
-        if (given.count(p.name)) EXPECT_DOUBLE_EQ(built.value, given[p.name]) << p.name;
+        if (given.count(p.name)) {
+          EXPECT_DOUBLE_EQ(built.value, given[p.name]) << p.name;
+        }
       }
       for (const auto& [a, b] : d->exclusive_parameters) {  // both together: named error
         const std::string msg = testing::errorMessageOf<ConfigError>([&] {
@@ -145,7 +148,9 @@ TEST(EffectRegistry, OptionsAcceptTheirChoicesAndRejectOthers) {
         SimulationConfig c;
         EXPECT_NO_THROW(c = loadSimulationConfig(design1(), overrides)) << v;
         for (const EffectSpec& e : c.effects)
-          if (e.name == d->name) EXPECT_EQ(e.option(o.name), v);
+          if (e.name == d->name) {
+            EXPECT_EQ(e.option(o.name), v);
+          }
       }
       const std::string msg = testing::errorMessageOf<ConfigError>(
           [&] { loadSimulationConfig(design1(), {field + "=no_such_choice"}); });
@@ -166,7 +171,9 @@ TEST(EffectRegistry, DiscoveryVariablesLieInsideTheirParametersRanges) {
     for (const FittableParameter& v : h.variables) {
       const ParameterSpec& p = d->parameter(v.parameter);
       ASSERT_LT(v.lower, v.upper) << v.variable;
-      if (v.log_scale) EXPECT_GT(v.lower, 0.0) << v.variable;
+      if (v.log_scale) {
+        EXPECT_GT(v.lower, 0.0) << v.variable;
+      }
       const double a = v.reciprocal ? 1.0 / v.upper : v.lower;
       const double b = v.reciprocal ? 1.0 / v.lower : v.upper;
       EXPECT_GE(a, p.min) << v.variable << " reaches below " << d->name << "." << p.name;
@@ -184,7 +191,9 @@ TEST(EffectRegistry, DiscoveryVariablesLieInsideTheirParametersRanges) {
       for (const FittableParameter& v : h.variables) named = named || v.variable == t.variable;
       EXPECT_TRUE(named) << t.variable;
     }
-    if (!h.session_time_parameter.empty()) EXPECT_NO_THROW(d->parameter(h.session_time_parameter));
+    if (!h.session_time_parameter.empty()) {
+      EXPECT_NO_THROW(d->parameter(h.session_time_parameter));
+    }
   }
   EXPECT_GT(fittable, 0);
 }

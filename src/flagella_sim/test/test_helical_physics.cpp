@@ -28,7 +28,8 @@ VecX externalForces(const Simulation& sim, const RodState& start, const RodState
   const EffectContext ctx{sim.network(), end.q,       end.frames,
                           start.q,       start.qdot,  sim.config().dt,
                           end.time,      st.medium(), st.currentViscosity()};
-  for (const EffectPtr& e : st.effects()) e->addForce(ctx, F, nullptr);
+  for (const EffectPtr& e : st.effects())
+    if (const ForceLaw* force = e->as<ForceLaw>()) force->addForce(ctx, F, nullptr);
   return F;
 }
 

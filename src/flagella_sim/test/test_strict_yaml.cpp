@@ -62,7 +62,7 @@ TEST(StrictYaml, NestedDuplicateNamesTheDottedField) {
 
 TEST(StrictYaml, EmptyDocumentsAreRejected) {
   const TempDir dir;
-  for (const std::string text :
+  for (const char* text :
        {"", "   \n\t\n", "# only a comment\n  # and another\n", "---\n", "~\n"}) {
     const std::string path = dir.write("empty.yaml", text);
     try {
@@ -89,7 +89,7 @@ TEST(StrictYaml, SecondDocumentIsRejectedWithItsLine) {
 TEST(StrictYaml, StrayCommaAtTheTopLevelIsASyntaxError) {
   // Found by fuzz/fuzz_metadata: yaml-cpp's LoadAll stops in front of a top-level ',' without
   // consuming it and returns empty documents until memory runs out (std::bad_alloc or a hang).
-  for (const std::string text : {",", "[1], [2]\n", ", a\n", "{a: 1},\n"}) {
+  for (const char* text : {",", "[1], [2]\n", ", a\n", "{a: 1},\n"}) {
     const Outcome o = parse(text);
     ASSERT_TRUE(o.failed) << text;
     EXPECT_EQ(o.line, 1) << text;
@@ -134,8 +134,8 @@ TEST(StrictYaml, RepeatedAliasesAreCheckedOnce) {
 TEST(StrictYaml, HugeKeysAndTagsAreQuotedAbbreviated) {
   // Messages quote user text short (fuzz/ checks that every message is at most a few kB).
   const std::string huge(100000, 'k');
-  for (const std::string text : {"? " + huge + "\n: 1\n? " + huge + "\n: 2\n",
-                                 "a: !" + huge + " 1\n", "? " + huge + "\n: [!x 1]\n"}) {
+  for (const std::string& text : {"? " + huge + "\n: 1\n? " + huge + "\n: 2\n",
+                                  "a: !" + huge + " 1\n", "? " + huge + "\n: [!x 1]\n"}) {
     const Outcome o = parse(text);
     ASSERT_TRUE(o.failed);
     EXPECT_LT(o.message.size(), 600u) << o.message.substr(0, 600);
@@ -183,7 +183,7 @@ TEST(StrictYaml, ConfigWithADuplicatedSectionIsAnError) {
 
 TEST(StrictYaml, EmptyOrCommentOnlyConfigIsAnError) {
   const TempDir dir;
-  for (const std::string text : {"", "\n   \n", "# robot: nothing\n"}) {
+  for (const char* text : {"", "\n   \n", "# robot: nothing\n"}) {
     const std::string path = dir.write("empty.yaml", text);
     const std::string msg = configError(path);
     EXPECT_TRUE(contains(msg, "config file is empty")) << "'" << text << "': " << msg;

@@ -40,7 +40,7 @@ double Motor::commandAt(double t_next) const {
 
 double Motor::speed(double command, const MotorLoad& load) const {
   double omega = command;
-  for (const Effect* law : speed_laws_) omega = law->motorSpeed(omega, load);
+  for (const MotorSpeedLaw* law : speed_laws_) omega = law->motorSpeed(omega, load);
   return omega;
 }
 

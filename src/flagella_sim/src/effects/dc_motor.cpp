@@ -32,9 +32,6 @@ const EffectDescriptor& dcMotorEffect() {
   return d;
 }
 
-void DcMotor::addForce(const EffectContext& /*ctx*/, VecX& /*force*/,
-                       JacobianSink* /*jacobian*/) const {}
-
 double DcMotor::motorSpeed(double omega, const MotorLoad& load) const {
   const double stall = params_[stall_torque_];
   if (load.torque >= stall) return 0.0;        // stalled: tau_load >= tau_stall

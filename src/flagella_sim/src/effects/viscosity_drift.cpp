@@ -38,9 +38,6 @@ const EffectDescriptor& viscosityDriftEffect() {
   return d;
 }
 
-void ViscosityDrift::addForce(const EffectContext& /*ctx*/, VecX& /*force*/,
-                              JacobianSink* /*jacobian*/) const {}
-
 double ViscosityDrift::viscosityFactor(double time) const {
   const double beta = params_[rate_], t_s = params_[session_time_];
   const double factor =

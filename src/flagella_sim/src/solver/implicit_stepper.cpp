@@ -62,8 +62,15 @@ ImplicitStepper::ImplicitStepper(RodNetwork net, std::vector<EffectPtr> effects,
   dense_system_.setCondensation(options_.condensed_dense_lu);
   for (const EffectPtr& e : effects_) {
     e->attach(net_);
-    dense_ = dense_ || e->hasDenseJacobian();
+    if (const ForceLaw* force = e->as<ForceLaw>()) {
+      forces_.push_back(force);
+      if (force->hasDenseJacobian()) dense_forces_.push_back(force);
+    }
+    if (StepHooks* hooks = e->as<StepHooks>()) step_hooks_.push_back(hooks);
+    if (const ViscosityLaw* law = e->as<ViscosityLaw>()) viscosity_laws_.push_back(law);
+    if (const MotorSpeedLaw* law = e->as<MotorSpeedLaw>()) speed_laws_.push_back(law);
   }
+  dense_ = !dense_forces_.empty();
 }
 
 Effect* ImplicitStepper::findEffect(const std::string& name) const {
@@ -137,8 +144,8 @@ double ImplicitStepper::evaluate(const RodState& start, const VecX& q, double dt
     ProfileScope timer(profile_, &StepProfile::effects);
     external_.setZero(net_.ndof());
     NegatingSink sink(assembler_);
-    for (const EffectPtr& e : effects_)
-      e->addForce(ctx, external_, with_jacobian ? &sink : nullptr);
+    for (const ForceLaw* force : forces_)
+      force->addForce(ctx, external_, with_jacobian ? &sink : nullptr);
     residual_ -= external_;
   }
   if (with_jacobian) {
@@ -166,8 +173,7 @@ EffectContext ImplicitStepper::contextAt(const RodState& start, const VecX& q, d
 }
 
 void ImplicitStepper::addDenseBlocks(const EffectContext& ctx, DenseJacobianSink& sink) const {
-  for (const EffectPtr& e : effects_)
-    if (e->hasDenseJacobian()) e->addDenseJacobian(ctx, sink);
+  for (const ForceLaw* force : dense_forces_) force->addDenseJacobian(ctx, sink);
 }
 
 void ImplicitStepper::buildDenseJacobian(const EffectContext& ctx) {

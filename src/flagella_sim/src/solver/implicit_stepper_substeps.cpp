@@ -15,13 +15,6 @@ const double kFoldedJointAngle = std::acos(-0.999);
 
 }  // namespace
 
-std::vector<const Effect*> ImplicitStepper::motorSpeedLaws() const {
-  std::vector<const Effect*> laws;
-  for (const EffectPtr& e : effects_)
-    if (e->shapesMotorSpeed()) laws.push_back(e.get());
-  return laws;
-}
-
 std::string ImplicitStepper::foldedJointNote(const RodState& state) const {
   // no step size passes a joint folded back on itself (docs/model.md 1.3)
   const FoldedJoint joint = mostFoldedJoint(net_, state.frames);
@@ -41,7 +34,7 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& mot
   const StepStart start{net_, state, dt, medium_, drive.viscosity};
   {
     ProfileScope timer(profile_, &StepProfile::effects);
-    for (const EffectPtr& e : effects_) e->beginStep(start);
+    for (StepHooks* hooks : step_hooks_) hooks->beginStep(start);
   }
   // docs/model.md 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
   const double offset = state.motor_twist_offset + drive.omega * dt;
@@ -59,7 +52,8 @@ ImplicitStepper::SubstepDrive ImplicitStepper::substepDrive(const RodState& stat
                                                             Motor& motor) const {
   // Effect hooks of this (sub)step: viscosity factor (product) and motor speed (chained).
   SubstepDrive drive;
-  for (const EffectPtr& e : effects_) drive.viscosity_factor *= e->viscosityFactor(t_next);
+  for (const ViscosityLaw* law : viscosity_laws_)
+    drive.viscosity_factor *= law->viscosityFactor(t_next);
   drive.viscosity = medium_.viscosity() * drive.viscosity_factor;
   drive.command = motor.commandAt(t_next);
   drive.omega = drive.command;
@@ -94,7 +88,7 @@ void ImplicitStepper::acceptSubstep(RodState& state, RodState& trial, double t_n
   trial.motor_twist_offset = motor_offset;
   {
     ProfileScope timer(profile_, &StepProfile::effects);
-    for (const EffectPtr& e : effects_) e->acceptStep(net_, state, trial);
+    for (StepHooks* hooks : step_hooks_) hooks->acceptStep(net_, state, trial);
   }
   motor.recordApplied(drive.command, drive.omega);
   viscosity_factor_ = drive.viscosity_factor;
@@ -131,12 +125,14 @@ StepReport ImplicitStepper::step(RodState& state, double dt, Motor& motor) {
   // What a failed step must put back besides `state`: sub-steps accepted before the failure
   // have already advanced the effects' internal state and the motor's record.
   std::vector<std::vector<double>>& effect_states = saved_effect_states_;
-  effect_states.resize(effects_.size());
-  for (size_t i = 0; i < effects_.size(); ++i) effect_states[i] = effects_[i]->internalState();
+  effect_states.resize(step_hooks_.size());
+  for (size_t i = 0; i < step_hooks_.size(); ++i)
+    effect_states[i] = step_hooks_[i]->internalState();
   const double viscosity_factor = viscosity_factor_;
   const Motor::Record motor_record = motor.record();
   auto restore = [&] {
-    for (size_t i = 0; i < effects_.size(); ++i) effects_[i]->setInternalState(effect_states[i]);
+    for (size_t i = 0; i < step_hooks_.size(); ++i)
+      step_hooks_[i]->setInternalState(effect_states[i]);
     viscosity_factor_ = viscosity_factor;
     motor.restore(motor_record);
   };

@@ -40,8 +40,8 @@ class Motor {
   void beginStep(double time, double dt);
 
   // ---- speed out
-  /// The torque-speed laws, chained in order (effects whose shapesMotorSpeed() is true).
-  void setSpeedLaws(std::vector<const Effect*> laws) { speed_laws_ = std::move(laws); }
+  /// The torque-speed laws, chained in order (the effects in role MotorSpeedLaw).
+  void setSpeedLaws(std::vector<const MotorSpeedLaw*> laws) { speed_laws_ = std::move(laws); }
   bool needsLoad() const { return !speed_laws_.empty(); }
   /// The command for the (sub)step ending at `t_next` [rad/s] (may be non-finite: the stepper
   /// reports that as a failure).
@@ -66,7 +66,7 @@ class Motor {
   bool schedule_until_first_command_ = true;
   bool stopped_ = false;
   double latched_ = 0.0;
-  std::vector<const Effect*> speed_laws_;
+  std::vector<const MotorSpeedLaw*> speed_laws_;
   Record record_;
 };
 

@@ -12,7 +12,7 @@ namespace flagella {
 /// The registry entry (effect_list.def).
 const EffectDescriptor& comOffsetEffect();
 
-class ComOffset : public Effect {
+class ComOffset : public Effect, public ForceLaw {
  public:
   static constexpr const char* kName = "com_offset";
   static constexpr double kMinHeadMass = 1e-6;  ///< [kg]

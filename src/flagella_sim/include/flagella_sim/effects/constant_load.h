@@ -9,7 +9,7 @@
 
 namespace flagella {
 
-class ConstantLoad : public Effect {
+class ConstantLoad : public Effect, public ForceLaw {
  public:
   static constexpr const char* kName = "constant_load";
   ConstantLoad() : Effect(kName) {}

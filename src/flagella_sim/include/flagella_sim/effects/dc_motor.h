@@ -13,13 +13,11 @@ namespace flagella {
 /// The registry entry (effect_list.def).
 const EffectDescriptor& dcMotorEffect();
 
-class DcMotor : public Effect {
+class DcMotor : public Effect, public MotorSpeedLaw {
  public:
   static constexpr const char* kName = "dc_motor";
   DcMotor();
-  void addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const override;
   double motorSpeed(double omega, const MotorLoad& load) const override;
-  bool shapesMotorSpeed() const override { return true; }
 
  private:
   int stall_torque_ = 0;

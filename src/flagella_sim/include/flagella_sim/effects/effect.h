@@ -1,5 +1,6 @@
-// The plug-in interface every external physics term implements: add your generalised force
-// and its exact Jacobian to the system, declare your named parameters (architecture.md).
+// The plug-in interface of every external physics term: an Effect (name and named parameters)
+// that plays one or more roles: a force (residual and exact Jacobian), a motor speed law, a
+// viscosity law, per-step hooks (architecture.md).
 #pragma once
 
 #include <memory>
@@ -82,6 +83,66 @@ struct StepStart {
   double viscosity;  ///< of the (sub)step [Pa s], as EffectContext::viscosity
 };
 
+/// The roles an effect can play (docs/architecture.md, "Effects"); an effect class derives from
+/// Effect and from each role it plays, and the stepper finds the roles once (Effect::as).
+
+/// A generalised external force: its residual and exact Jacobian.
+class ForceLaw {
+ public:
+  virtual ~ForceLaw() = default;
+  /// Adds the generalised external force F(q, (q - q_k)/dt) to `force` and, when `jacobian`
+  /// is non-null, dF/dq. The sequence of Jacobian entries must not depend on the values.
+  virtual void addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const = 0;
+  /// True for forces whose Jacobian has a dense block (addDenseJacobian); the stepper then
+  /// solves the Newton system with a dense LU instead of the sparse one.
+  virtual bool hasDenseJacobian() const { return false; }
+  /// Adds the dense part of dF/dq at the iterate (called whenever the Jacobian is built).
+  virtual void addDenseJacobian(const EffectContext& /*ctx*/, DenseJacobianSink& /*sink*/) const {}
+};
+
+/// A torque-speed law of the motor (docs/model.md 1.9). The motor chains the laws in the order
+/// the effects are listed (each scales the speed the previous one returned); the stepper
+/// evaluates the motor's load (one spring's bending-twisting terms per step) only when some
+/// effect has this role.
+class MotorSpeedLaw {
+ public:
+  virtual ~MotorSpeedLaw() = default;
+  /// The speed applied to the natural twist during the (sub)step ending at load.time, given the
+  /// speed `omega` requested upstream (the command, or the previous law's result) [rad/s].
+  virtual double motorSpeed(double omega, const MotorLoad& load) const = 0;
+};
+
+/// A slow change of the medium's viscosity (effect-owned state of a time-varying medium).
+class ViscosityLaw {
+ public:
+  virtual ~ViscosityLaw() = default;
+  /// Multiplier on the medium's configured viscosity during the (sub)step ending at `time`
+  /// (t_{k+1}). The stepper passes the product over all laws to every effect as
+  /// EffectContext::viscosity (the Medium stays constant).
+  virtual double viscosityFactor(double time) const = 0;
+};
+
+/// Per-step hooks: what a force holds fixed over a step, and internal state carried between
+/// steps. The defaults do nothing.
+class StepHooks {
+ public:
+  virtual ~StepHooks() = default;
+  /// Called before the Newton solve of every (sub)step: the place to build what the step
+  /// holds fixed, e.g. the RSS matrix at x(t_k) (docs/model.md 4.4). Throwing here fails the
+  /// step like an effect out of its domain.
+  virtual void beginStep(const StepStart& /*start*/) {}
+  /// Called after every accepted (sub)step with the states at its start and end: the place to
+  /// update internal state (e.g. hysteresis). Not called for rejected attempts.
+  virtual void acceptStep(const RodNetwork& /*net*/, const RodState& /*start*/,
+                          const RodState& /*end*/) {}
+  /// Internal state changed by acceptStep, saved by the stepper before a step and restored if
+  /// the step fails, so a failed step leaves the effect as it was.
+  virtual std::vector<double> internalState() const { return {}; }
+  virtual void setInternalState(const std::vector<double>& /*state*/) {}
+};
+
+/// What the registry builds and a config switches on: a name, named parameters, and the roles
+/// above that the effect's class also derives from.
 class Effect {
  public:
   /// Declares the parameters of `schema` (an effect's descriptor) with their defaults and ranges.
@@ -97,44 +158,16 @@ class Effect {
 
   /// Called once when the effect is attached to a network (precompute node lists etc.).
   virtual void attach(const RodNetwork& /*net*/) {}
-  /// Adds the generalised external force F(q, (q - q_k)/dt) to `force` and, when `jacobian`
-  /// is non-null, dF/dq. The sequence of Jacobian entries must not depend on the values.
-  virtual void addForce(const EffectContext& ctx, VecX& force, JacobianSink* jacobian) const = 0;
 
-  // Optional hooks; the defaults do nothing, so an effect only overrides what it models.
-  // Composition when several effects use the same hook: the stepper multiplies the viscosity
-  // factors, and the motor chains motorSpeed in the order the effects are listed (each scales
-  // the speed the previous one returned, i.e. the product of their speed factors).
-
-  /// Multiplier on the medium's configured viscosity during the (sub)step ending at `time`
-  /// (t_{k+1}): effect-owned state of a time-varying medium. The stepper passes the product over
-  /// all effects to every effect as EffectContext::viscosity (the Medium stays constant).
-  virtual double viscosityFactor(double /*time*/) const { return 1.0; }
-  /// Torque-speed law of the motor (Motor chains these): the speed applied to the natural
-  /// twist (docs/model.md 1.9) during the (sub)step ending at
-  /// load.time, given the speed `omega` requested upstream (the command, or the previous
-  /// effect's result) [rad/s].
-  virtual double motorSpeed(double omega, const MotorLoad& /*load*/) const { return omega; }
-  /// True for effects that override motorSpeed: the stepper evaluates the motor's load (one
-  /// spring's bending-twisting terms per step) only when some effect needs it.
-  virtual bool shapesMotorSpeed() const { return false; }
-  /// Called before the Newton solve of every (sub)step: the place to build what the step
-  /// holds fixed, e.g. the RSS matrix at x(t_k) (docs/model.md 4.4). Throwing here fails the
-  /// step like an effect out of its domain.
-  virtual void beginStep(const StepStart& /*start*/) {}
-  /// True for effects whose Jacobian has a dense block (addDenseJacobian); the stepper then
-  /// solves the Newton system with a dense LU instead of the sparse one.
-  virtual bool hasDenseJacobian() const { return false; }
-  /// Adds the dense part of dF/dq at the iterate (called whenever the Jacobian is built).
-  virtual void addDenseJacobian(const EffectContext& /*ctx*/, DenseJacobianSink& /*sink*/) const {}
-  /// Called after every accepted (sub)step with the states at its start and end: the place to
-  /// update internal state (e.g. hysteresis). Not called for rejected attempts.
-  virtual void acceptStep(const RodNetwork& /*net*/, const RodState& /*start*/,
-                          const RodState& /*end*/) {}
-  /// Internal state changed by acceptStep, saved by the stepper before a step and restored if
-  /// the step fails, so a failed step leaves the effect as it was.
-  virtual std::vector<double> internalState() const { return {}; }
-  virtual void setInternalState(const std::vector<double>& /*state*/) {}
+  /// This effect in role `Role` (ForceLaw, MotorSpeedLaw, ViscosityLaw, StepHooks), or nullptr.
+  template <class Role>
+  Role* as() {
+    return dynamic_cast<Role*>(this);
+  }
+  template <class Role>
+  const Role* as() const {
+    return dynamic_cast<const Role*>(this);
+  }
 
  protected:
   /// Index of a parameter declared from the schema (for fast access in addForce).

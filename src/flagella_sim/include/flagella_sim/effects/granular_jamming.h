@@ -17,7 +17,7 @@ namespace flagella {
 /// The registry entry (effect_list.def).
 const EffectDescriptor& granularJammingEffect();
 
-class GranularJamming : public Effect {
+class GranularJamming : public Effect, public ForceLaw, public StepHooks {
  public:
   static constexpr const char* kName = "granular_jamming";
   GranularJamming();

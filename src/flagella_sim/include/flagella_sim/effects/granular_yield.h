@@ -17,7 +17,7 @@ const EffectDescriptor& granularYieldEffect();
 void addRegularizedCoulombForce(const EffectContext& ctx, int node, double yield_force,
                                 double velocity_scale, VecX& force, JacobianSink* jacobian);
 
-class GranularYield : public Effect {
+class GranularYield : public Effect, public ForceLaw {
  public:
   static constexpr const char* kName = "granular_yield";
   GranularYield();

@@ -10,7 +10,7 @@ namespace flagella {
 /// The registry entry (effect_list.def).
 const EffectDescriptor& gravityEffect();
 
-class Gravity : public Effect {
+class Gravity : public Effect, public ForceLaw {
  public:
   static constexpr const char* kName = "gravity";
   explicit Gravity(double body_density);

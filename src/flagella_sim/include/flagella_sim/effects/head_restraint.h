@@ -11,7 +11,7 @@ namespace flagella {
 /// The registry entry (effect_list.def).
 const EffectDescriptor& headRestraintEffect();
 
-class HeadRestraint : public Effect {
+class HeadRestraint : public Effect, public ForceLaw {
  public:
   static constexpr const char* kName = "head_restraint";
   HeadRestraint(double height_stiffness, double pitch_stiffness);

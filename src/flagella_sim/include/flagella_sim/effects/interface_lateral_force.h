@@ -14,7 +14,7 @@ const EffectDescriptor& interfaceLateralForceEffect();
 /// -I(h/R, k) with I = integral_0^{2pi} sin(phi) mu(R sin phi)/mu0 dphi (docs/model.md 3.3).
 double integratedLateralCoefficient(double onset_over_radius, double sharpness);
 
-class InterfaceLateralForce : public Effect {
+class InterfaceLateralForce : public Effect, public ForceLaw {
  public:
   static constexpr const char* kName = "interface_lateral_force";
   InterfaceLateralForce(double C_yr, double head_radius, double head_length);

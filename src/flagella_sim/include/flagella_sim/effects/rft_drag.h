@@ -14,7 +14,7 @@ namespace flagella {
 /// The registry entry (effect_list.def).
 const EffectDescriptor& rftDragEffect();
 
-class RftDrag : public Effect {
+class RftDrag : public Effect, public ForceLaw {
  public:
   static constexpr const char* kName = "rft";
   explicit RftDrag(RftLogForm form, bool use_interface_profile = false);

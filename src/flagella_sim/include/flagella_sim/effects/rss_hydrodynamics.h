@@ -18,7 +18,7 @@ namespace flagella {
 /// The registry entry (effect_list.def).
 const EffectDescriptor& rssHydrodynamicsEffect();
 
-class RssHydrodynamics : public Effect {
+class RssHydrodynamics : public Effect, public ForceLaw, public StepHooks {
  public:
   static constexpr const char* kName = "rss";
   /// `filament_radius`: r0 [m] (eps = eps_ratio r0 until eps itself is set); `implicit`: option B

@@ -11,7 +11,7 @@ namespace flagella {
 /// The registry entry (effect_list.def).
 const EffectDescriptor& stokesHeadDragEffect();
 
-class StokesHeadDrag : public Effect {
+class StokesHeadDrag : public Effect, public ForceLaw {
  public:
   static constexpr const char* kName = "stokes_head";
   StokesHeadDrag(double C_t, double C_r, double head_radius, double tilt_drag = 0.0);

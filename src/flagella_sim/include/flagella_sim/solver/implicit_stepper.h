@@ -7,7 +7,7 @@
 // state is left at the last accepted step.
 // Linear solve: a sparse 4x4-block LU with KLU as its fallback (JacobianSolver), or a dense
 // partial-pivot LU of the whole Jacobian when an effect has a dense Jacobian block
-// (Effect::hasDenseJacobian, the RSS hydrodynamics of docs/model.md 4.4), right-preconditioned so
+// (ForceLaw::hasDenseJacobian, the RSS hydrodynamics of docs/model.md 4.4), right-preconditioned so
 // that the RSS drag is never inverted (DenseNewtonSystem).
 #pragma once
 
@@ -51,9 +51,9 @@ class ImplicitStepper {
   /// Advances state by dt with the natural-twist rate from `motor`. Throws SolverFailure if the
   /// step cannot be completed even after subdivision; state is then unchanged (and so are the
   /// motor's record and the effects' internal state, whatever the exception).
-  /// Before every (sub)step the effects give the viscosity factor (Effect::viscosityFactor,
+  /// Before every (sub)step the effects give the viscosity factor (ViscosityLaw::viscosityFactor,
   /// passed to the effects as EffectContext::viscosity) and the motor its speed; after every
-  /// accepted (sub)step Effect::acceptStep is called and the motor records what it applied.
+  /// accepted (sub)step StepHooks::acceptStep is called and the motor records what it applied.
   StepReport step(RodState& state, double dt, Motor& motor);
   /// The same with a one-step motor that follows `schedule` with this stepper's torque-speed
   /// laws (its record is discarded): for stepper-level tests without a Simulation.
@@ -63,8 +63,8 @@ class ImplicitStepper {
   /// (docs/model.md 1.9): the motor spring's generalised force on theta^0, with the natural twist
   /// of that state.
   MotorLoad motorLoad(const RodState& state, double omega_cmd, double time_next) const;
-  /// The effects whose torque-speed law shapes the motor speed (Effect::shapesMotorSpeed).
-  std::vector<const Effect*> motorSpeedLaws() const;
+  /// The effects whose torque-speed law shapes the motor speed (role MotorSpeedLaw), in order.
+  std::vector<const MotorSpeedLaw*> motorSpeedLaws() const { return speed_laws_; }
   /// Viscosity of the last accepted (sub)step: medium mu0 times the effects' factors [Pa s].
   double currentViscosity() const { return medium_.viscosity() * viscosity_factor_; }
 
@@ -205,6 +205,12 @@ class ImplicitStepper {
 
   RodNetwork net_;
   std::vector<EffectPtr> effects_;
+  // The effects in each role (Effect::as), in the effects' order.
+  std::vector<const ForceLaw*> forces_;
+  std::vector<const ForceLaw*> dense_forces_;  ///< forces with a dense Jacobian block
+  std::vector<StepHooks*> step_hooks_;
+  std::vector<const ViscosityLaw*> viscosity_laws_;
+  std::vector<const MotorSpeedLaw*> speed_laws_;
   Medium medium_;
   NewtonOptions options_;
   /// Natural twist of the motor spring at t = 0 (the network's value, never written).
