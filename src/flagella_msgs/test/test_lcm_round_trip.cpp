@@ -275,6 +275,35 @@ TEST(LcmSchema, TwinsHaveTheSameFieldsInTheSameOrder) {
   EXPECT_EQ(point_stamped_fields, lcmFields(root + "/lcm/point_stamped_t.lcm"));
 }
 
+// The converters' field lists (lcm_conversions.h) are the definition files' lists, in order: a
+// field added to a .msg and its .lcm but not to the list would otherwise be dropped both ways.
+TEST(LcmSchema, ConverterListsAreTheDefinitionFiles) {
+  using lcm_twin::FieldNames;
+  const std::string root = std::string(FLAGELLA_MSGS_DIR) + "/msg/";
+  EXPECT_EQ(FieldNames<RodState>::get(), msgFields(root + "RodState.msg"));
+  EXPECT_EQ(FieldNames<NodeGroup>::get(), msgFields(root + "NodeGroup.msg"));
+  EXPECT_EQ(FieldNames<MotorCommand>::get(), msgFields(root + "MotorCommand.msg"));
+  EXPECT_EQ(FieldNames<SliderCommand>::get(), msgFields(root + "SliderCommand.msg"));
+  EXPECT_EQ(FieldNames<ControllerStatus>::get(), msgFields(root + "ControllerStatus.msg"));
+  EXPECT_EQ(FieldNames<SteeringStatus>::get(), msgFields(root + "SteeringStatus.msg"));
+  // Messages not ours: their full definitions as the generated headers give them.
+  using ros::message_traits::Definition;
+  EXPECT_EQ(FieldNames<sensor_msgs::Imu>::get(),
+            definitionFields(Definition<sensor_msgs::Imu>::value()));
+  EXPECT_EQ(FieldNames<geometry_msgs::PointStamped>::get(),
+            definitionFields(Definition<geometry_msgs::PointStamped>::value()));
+  EXPECT_EQ(FieldNames<geometry_msgs::Pose>::get(),
+            definitionFields(Definition<geometry_msgs::Pose>::value()));
+  EXPECT_EQ(FieldNames<geometry_msgs::Quaternion>::get(),
+            definitionFields(Definition<geometry_msgs::Quaternion>::value()));
+  EXPECT_EQ(FieldNames<geometry_msgs::Point>::get(),
+            definitionFields(Definition<geometry_msgs::Point>::value()));
+  EXPECT_EQ(FieldNames<geometry_msgs::Vector3>::get(),
+            definitionFields(Definition<geometry_msgs::Vector3>::value()));
+  EXPECT_EQ(FieldNames<std_msgs::Header>::get(),
+            definitionFields(Definition<std_msgs::Header>::value()));
+}
+
 TEST(LcmSchema, FieldParserSeesEveryRodStateField) {
   // Guards the parser itself: RodState has 15 fields, its twin the same 15 plus 3 array lengths.
   EXPECT_EQ(msgFields(std::string(FLAGELLA_MSGS_DIR) + "/msg/RodState.msg").size(), 15u);

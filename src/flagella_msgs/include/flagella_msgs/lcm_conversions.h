@@ -1,6 +1,9 @@
-// Header-only conversions between the ROS messages of flagella_msgs and their LCM twins
-// (same field names; LCM's num_* array lengths are filled from the vectors). Both directions
-// are lossless, which test/test_lcm_round_trip.cpp checks.
+// Header-only conversions between the ROS messages of flagella_msgs and their LCM twins, driven
+// by one list of fields per message (FLAGELLA_LCM_TWIN below): the same list copies both ways,
+// field by field, through Convert<From, To> (numbers cast, strings, variable arrays element by
+// element, fixed arrays, nested twins); LCM's num_* array lengths are filled from the arrays.
+// Both directions are lossless, and each list is the .msg file's field list, in order, both of
+// which test/test_lcm_round_trip.cpp checks.
 #pragma once
 
 #include <flagella_msgs/ControllerStatus.h>
@@ -11,7 +14,8 @@
 #include <geometry_msgs/PointStamped.h>
 #include <sensor_msgs/Imu.h>
 
-#include <algorithm>
+#include <boost/array.hpp>
+#include <cstddef>
 #include <cstdint>
 #include <flagella_lcm/controller_status_t.hpp>
 #include <flagella_lcm/imu_t.hpp>
@@ -20,280 +24,170 @@
 #include <flagella_lcm/rod_state_t.hpp>
 #include <flagella_lcm/slider_command_t.hpp>
 #include <flagella_lcm/steering_status_t.hpp>
+#include <string>
+#include <type_traits>
 #include <vector>
 
 namespace flagella_msgs {
 
-// ---- small types ----------------------------------------------------------------------------
-inline flagella_lcm::header_t toLcm(const std_msgs::Header& in) {
-  flagella_lcm::header_t out;
-  out.seq = static_cast<int32_t>(in.seq);
-  out.stamp.sec = static_cast<int32_t>(in.stamp.sec);
-  out.stamp.nsec = static_cast<int32_t>(in.stamp.nsec);
-  out.frame_id = in.frame_id;
-  return out;
-}
-inline std_msgs::Header toRos(const flagella_lcm::header_t& in) {
-  std_msgs::Header out;
-  out.seq = static_cast<uint32_t>(in.seq);
-  out.stamp.sec = static_cast<uint32_t>(in.stamp.sec);
-  out.stamp.nsec = static_cast<uint32_t>(in.stamp.nsec);
-  out.frame_id = in.frame_id;
-  return out;
+namespace lcm_twin {
+
+/// Copies one field's value from `in` to `out` (specialised below and by FLAGELLA_LCM_TWIN).
+template <typename From, typename To, typename Enable = void>
+struct Convert;
+
+template <typename From, typename To>
+void convert(const From& in, To& out) {
+  Convert<From, To>::apply(in, out);
 }
 
-inline flagella_lcm::point_t toLcm(const geometry_msgs::Point& in) {
-  flagella_lcm::point_t out;
-  out.x = in.x, out.y = in.y, out.z = in.z;
-  return out;
-}
-inline geometry_msgs::Point toRos(const flagella_lcm::point_t& in) {
-  geometry_msgs::Point out;
-  out.x = in.x, out.y = in.y, out.z = in.z;
-  return out;
-}
+/// The twin types (set by FLAGELLA_LCM_TWIN).
+template <typename Ros>
+struct LcmOf;
+template <typename Lcm>
+struct RosOf;
 
-inline flagella_lcm::vector3_t toLcm(const geometry_msgs::Vector3& in) {
-  flagella_lcm::vector3_t out;
-  out.x = in.x, out.y = in.y, out.z = in.z;
-  return out;
-}
-inline geometry_msgs::Vector3 toRos(const flagella_lcm::vector3_t& in) {
-  geometry_msgs::Vector3 out;
-  out.x = in.x, out.y = in.y, out.z = in.z;
-  return out;
-}
+// Numbers (and the message enums, uint8 in ROS and int8 in LCM): a cast.
+template <typename From, typename To>
+struct Convert<From, To, std::enable_if_t<std::is_arithmetic_v<From> && std::is_arithmetic_v<To>>> {
+  static void apply(const From& in, To& out) { out = static_cast<To>(in); }
+};
+template <>
+struct Convert<std::string, std::string> {
+  static void apply(const std::string& in, std::string& out) { out = in; }
+};
+// Variable-length arrays: element by element.
+template <typename A, typename AllocA, typename B, typename AllocB>
+struct Convert<std::vector<A, AllocA>, std::vector<B, AllocB>> {
+  static void apply(const std::vector<A, AllocA>& in, std::vector<B, AllocB>& out) {
+    out.resize(in.size());
+    for (std::size_t i = 0; i < in.size(); ++i) convert(in[i], out[i]);
+  }
+};
+// Fixed-length arrays (ROS boost::array, LCM C array).
+template <typename A, typename B, std::size_t N>
+struct Convert<boost::array<A, N>, B[N]> {
+  static void apply(const boost::array<A, N>& in, B (&out)[N]) {
+    for (std::size_t i = 0; i < N; ++i) convert(in[i], out[i]);
+  }
+};
+template <typename A, typename B, std::size_t N>
+struct Convert<A[N], boost::array<B, N>> {
+  static void apply(const A (&in)[N], boost::array<B, N>& out) {
+    for (std::size_t i = 0; i < N; ++i) convert(in[i], out[i]);
+  }
+};
 
-inline flagella_lcm::quaternion_t toLcm(const geometry_msgs::Quaternion& in) {
-  flagella_lcm::quaternion_t out;
-  out.x = in.x, out.y = in.y, out.z = in.z, out.w = in.w;
-  return out;
-}
-inline geometry_msgs::Quaternion toRos(const flagella_lcm::quaternion_t& in) {
-  geometry_msgs::Quaternion out;
-  out.x = in.x, out.y = in.y, out.z = in.z, out.w = in.w;
-  return out;
-}
+/// The names of a twin's fields, in its list's order (test_lcm_round_trip compares them with the
+/// .msg files).
+template <typename Ros>
+struct FieldNames;
 
-inline flagella_lcm::pose_t toLcm(const geometry_msgs::Pose& in) {
-  flagella_lcm::pose_t out;
-  out.position = toLcm(in.position);
-  out.orientation = toLcm(in.orientation);
-  return out;
-}
-inline geometry_msgs::Pose toRos(const flagella_lcm::pose_t& in) {
-  geometry_msgs::Pose out;
-  out.position = toRos(in.position);
-  out.orientation = toRos(in.orientation);
-  return out;
-}
+}  // namespace lcm_twin
 
-inline flagella_lcm::node_group_t toLcm(const NodeGroup& in) {
-  flagella_lcm::node_group_t out;
-  out.name = in.name;
-  out.nodes.assign(in.nodes.begin(), in.nodes.end());
-  out.num_nodes = static_cast<int32_t>(out.nodes.size());
-  return out;
-}
-inline NodeGroup toRos(const flagella_lcm::node_group_t& in) {
-  NodeGroup out;
-  out.name = in.name;
-  out.nodes.assign(in.nodes.begin(), in.nodes.end());
-  return out;
-}
+#define FLAGELLA_LCM_COPY(field) ::flagella_msgs::lcm_twin::convert(in.field, out.field);
+#define FLAGELLA_LCM_NAME(field) #field,
+#define FLAGELLA_LCM_COUNT(count, array) out.count = static_cast<int32_t>(out.array.size());
+#define FLAGELLA_LCM_NO_COUNTS(COUNT)
 
-/// Converts every element of a vector with the overload above.
-template <typename Out, typename In>
-std::vector<Out> convertAll(const std::vector<In>& in, Out (*convert)(const In&)) {
-  std::vector<Out> out;
-  out.reserve(in.size());
-  for (const In& element : in) out.push_back(convert(element));
-  return out;
-}
+/// One twin: ROS type, LCM type, the list of fields (FIELDS(X) applies X to each, in order) and
+/// LCM's array lengths (COUNTS(C) applies C(num_field, array)).
+#define FLAGELLA_LCM_TWIN(Ros, Lcm, FIELDS, COUNTS)                               \
+  namespace lcm_twin {                                                            \
+  template <>                                                                     \
+  struct LcmOf<Ros> {                                                             \
+    using type = Lcm;                                                             \
+  };                                                                              \
+  template <>                                                                     \
+  struct RosOf<Lcm> {                                                             \
+    using type = Ros;                                                             \
+  };                                                                              \
+  template <>                                                                     \
+  struct Convert<Ros, Lcm> {                                                      \
+    static void apply(const Ros& in, Lcm& out) {                                  \
+      FIELDS(FLAGELLA_LCM_COPY)                                                   \
+      COUNTS(FLAGELLA_LCM_COUNT)                                                  \
+    }                                                                             \
+  };                                                                              \
+  template <>                                                                     \
+  struct Convert<Lcm, Ros> {                                                      \
+    static void apply(const Lcm& in, Ros& out) { FIELDS(FLAGELLA_LCM_COPY) }      \
+  };                                                                              \
+  template <>                                                                     \
+  struct FieldNames<Ros> {                                                        \
+    static std::vector<std::string> get() { return {FIELDS(FLAGELLA_LCM_NAME)}; } \
+  };                                                                              \
+  }
 
-template <typename Array, typename Out>
-void copyFixed(const Array& in, Out& out) {
-  std::copy(std::begin(in), std::end(in), std::begin(out));
-}
+// ---- the field lists: one per message, in the .msg file's order ------------------------------
+// clang-format off
+#define FLAGELLA_STAMP_FIELDS(X) X(sec) X(nsec)
+#define FLAGELLA_HEADER_FIELDS(X) X(seq) X(stamp) X(frame_id)
+#define FLAGELLA_POINT_FIELDS(X) X(x) X(y) X(z)
+#define FLAGELLA_QUATERNION_FIELDS(X) X(x) X(y) X(z) X(w)
+#define FLAGELLA_POSE_FIELDS(X) X(position) X(orientation)
+#define FLAGELLA_NODE_GROUP_FIELDS(X) X(name) X(nodes)
+#define FLAGELLA_NODE_GROUP_COUNTS(C) C(num_nodes, nodes)
+#define FLAGELLA_ROD_STATE_FIELDS(X) X(header) X(robot_name) X(nodes) X(edge_start) X(edge_end) \
+  X(edge_twist) X(edge_frames) X(head) X(tails) X(omega_h) X(omega_t) X(omega_motor)            \
+  X(head_angle) X(tail_angle) X(head_pose)
+#define FLAGELLA_ROD_STATE_COUNTS(C) C(num_nodes, nodes) C(num_edges, edge_start) \
+  C(num_tails, tails)
+#define FLAGELLA_MOTOR_COMMAND_FIELDS(X) X(header) X(omega)
+#define FLAGELLA_SLIDER_COMMAND_FIELDS(X) X(header) X(position)
+#define FLAGELLA_CONTROLLER_STATUS_FIELDS(X) X(header) X(controller) X(mode) X(segment_index) \
+  X(progress) X(cross_track_error) X(heading_error) X(motor_command) X(message)
+#define FLAGELLA_STEERING_STATUS_FIELDS(X) X(header) X(mode) X(mode_name) X(waypoint) X(reached) \
+  X(total) X(distance) X(azimuth_error) X(elevation) X(target_elevation) X(estimated_position)  \
+  X(motor_command) X(slider_command) X(buckle_cycles) X(in_cycle) X(flipping) X(imu_stale)      \
+  X(fix_stale) X(slider_saturated) X(pitching) X(crab) X(neutral) X(steer_offset)               \
+  X(trim_neutral) X(trimmed) X(pitch_neutral) X(pitch_gain) X(retrims) X(message)
+#define FLAGELLA_POINT_STAMPED_FIELDS(X) X(header) X(point)
+#define FLAGELLA_IMU_FIELDS(X) X(header) X(orientation) X(orientation_covariance) \
+  X(angular_velocity) X(angular_velocity_covariance) X(linear_acceleration)       \
+  X(linear_acceleration_covariance)
+// clang-format on
 
-// ---- messages -------------------------------------------------------------------------------
-inline flagella_lcm::rod_state_t toLcm(const RodState& in) {
-  flagella_lcm::rod_state_t out;
-  out.header = toLcm(in.header);
-  out.robot_name = in.robot_name;
-  out.nodes = convertAll<flagella_lcm::point_t, geometry_msgs::Point>(in.nodes, &toLcm);
-  out.num_nodes = static_cast<int32_t>(out.nodes.size());
-  out.edge_start.assign(in.edge_start.begin(), in.edge_start.end());
-  out.edge_end.assign(in.edge_end.begin(), in.edge_end.end());
-  out.edge_twist.assign(in.edge_twist.begin(), in.edge_twist.end());
-  out.edge_frames =
-      convertAll<flagella_lcm::quaternion_t, geometry_msgs::Quaternion>(in.edge_frames, &toLcm);
-  out.num_edges = static_cast<int32_t>(out.edge_start.size());
-  out.head = toLcm(in.head);
-  out.tails = convertAll<flagella_lcm::node_group_t, NodeGroup>(in.tails, &toLcm);
-  out.num_tails = static_cast<int32_t>(out.tails.size());
-  out.omega_h = in.omega_h;
-  out.omega_t = in.omega_t;
-  out.omega_motor = in.omega_motor;
-  out.head_angle = in.head_angle;
-  out.tail_angle = in.tail_angle;
-  out.head_pose = toLcm(in.head_pose);
-  return out;
-}
-inline RodState toRos(const flagella_lcm::rod_state_t& in) {
-  RodState out;
-  out.header = toRos(in.header);
-  out.robot_name = in.robot_name;
-  out.nodes = convertAll<geometry_msgs::Point, flagella_lcm::point_t>(in.nodes, &toRos);
-  out.edge_start.assign(in.edge_start.begin(), in.edge_start.end());
-  out.edge_end.assign(in.edge_end.begin(), in.edge_end.end());
-  out.edge_twist.assign(in.edge_twist.begin(), in.edge_twist.end());
-  out.edge_frames =
-      convertAll<geometry_msgs::Quaternion, flagella_lcm::quaternion_t>(in.edge_frames, &toRos);
-  out.head = toRos(in.head);
-  out.tails = convertAll<NodeGroup, flagella_lcm::node_group_t>(in.tails, &toRos);
-  out.omega_h = in.omega_h;
-  out.omega_t = in.omega_t;
-  out.omega_motor = in.omega_motor;
-  out.head_angle = in.head_angle;
-  out.tail_angle = in.tail_angle;
-  out.head_pose = toRos(in.head_pose);
-  return out;
-}
+FLAGELLA_LCM_TWIN(ros::Time, flagella_lcm::stamp_t, FLAGELLA_STAMP_FIELDS, FLAGELLA_LCM_NO_COUNTS)
+FLAGELLA_LCM_TWIN(std_msgs::Header, flagella_lcm::header_t, FLAGELLA_HEADER_FIELDS,
+                  FLAGELLA_LCM_NO_COUNTS)
+FLAGELLA_LCM_TWIN(geometry_msgs::Point, flagella_lcm::point_t, FLAGELLA_POINT_FIELDS,
+                  FLAGELLA_LCM_NO_COUNTS)
+FLAGELLA_LCM_TWIN(geometry_msgs::Vector3, flagella_lcm::vector3_t, FLAGELLA_POINT_FIELDS,
+                  FLAGELLA_LCM_NO_COUNTS)
+FLAGELLA_LCM_TWIN(geometry_msgs::Quaternion, flagella_lcm::quaternion_t, FLAGELLA_QUATERNION_FIELDS,
+                  FLAGELLA_LCM_NO_COUNTS)
+FLAGELLA_LCM_TWIN(geometry_msgs::Pose, flagella_lcm::pose_t, FLAGELLA_POSE_FIELDS,
+                  FLAGELLA_LCM_NO_COUNTS)
+FLAGELLA_LCM_TWIN(NodeGroup, flagella_lcm::node_group_t, FLAGELLA_NODE_GROUP_FIELDS,
+                  FLAGELLA_NODE_GROUP_COUNTS)
+FLAGELLA_LCM_TWIN(RodState, flagella_lcm::rod_state_t, FLAGELLA_ROD_STATE_FIELDS,
+                  FLAGELLA_ROD_STATE_COUNTS)
+FLAGELLA_LCM_TWIN(MotorCommand, flagella_lcm::motor_command_t, FLAGELLA_MOTOR_COMMAND_FIELDS,
+                  FLAGELLA_LCM_NO_COUNTS)
+FLAGELLA_LCM_TWIN(SliderCommand, flagella_lcm::slider_command_t, FLAGELLA_SLIDER_COMMAND_FIELDS,
+                  FLAGELLA_LCM_NO_COUNTS)
+FLAGELLA_LCM_TWIN(ControllerStatus, flagella_lcm::controller_status_t,
+                  FLAGELLA_CONTROLLER_STATUS_FIELDS, FLAGELLA_LCM_NO_COUNTS)
+FLAGELLA_LCM_TWIN(SteeringStatus, flagella_lcm::steering_status_t, FLAGELLA_STEERING_STATUS_FIELDS,
+                  FLAGELLA_LCM_NO_COUNTS)
+FLAGELLA_LCM_TWIN(geometry_msgs::PointStamped, flagella_lcm::point_stamped_t,
+                  FLAGELLA_POINT_STAMPED_FIELDS, FLAGELLA_LCM_NO_COUNTS)
+FLAGELLA_LCM_TWIN(sensor_msgs::Imu, flagella_lcm::imu_t, FLAGELLA_IMU_FIELDS,
+                  FLAGELLA_LCM_NO_COUNTS)
 
-inline flagella_lcm::motor_command_t toLcm(const MotorCommand& in) {
-  flagella_lcm::motor_command_t out;
-  out.header = toLcm(in.header);
-  out.omega = in.omega;
+/// The LCM twin of a ROS message (every field, array lengths set).
+template <typename Ros>
+typename lcm_twin::LcmOf<Ros>::type toLcm(const Ros& in) {
+  typename lcm_twin::LcmOf<Ros>::type out;
+  lcm_twin::convert(in, out);
   return out;
 }
-inline MotorCommand toRos(const flagella_lcm::motor_command_t& in) {
-  MotorCommand out;
-  out.header = toRos(in.header);
-  out.omega = in.omega;
-  return out;
-}
-
-inline flagella_lcm::slider_command_t toLcm(const SliderCommand& in) {
-  flagella_lcm::slider_command_t out;
-  out.header = toLcm(in.header);
-  out.position = in.position;
-  return out;
-}
-inline SliderCommand toRos(const flagella_lcm::slider_command_t& in) {
-  SliderCommand out;
-  out.header = toRos(in.header);
-  out.position = in.position;
-  return out;
-}
-
-inline flagella_lcm::controller_status_t toLcm(const ControllerStatus& in) {
-  flagella_lcm::controller_status_t out;
-  out.header = toLcm(in.header);
-  out.controller = in.controller;
-  out.mode = static_cast<int8_t>(in.mode);
-  out.segment_index = in.segment_index;
-  out.progress = in.progress;
-  out.cross_track_error = in.cross_track_error;
-  out.heading_error = in.heading_error;
-  out.motor_command = in.motor_command;
-  out.message = in.message;
-  return out;
-}
-inline ControllerStatus toRos(const flagella_lcm::controller_status_t& in) {
-  ControllerStatus out;
-  out.header = toRos(in.header);
-  out.controller = in.controller;
-  out.mode = static_cast<uint8_t>(in.mode);
-  out.segment_index = in.segment_index;
-  out.progress = in.progress;
-  out.cross_track_error = in.cross_track_error;
-  out.heading_error = in.heading_error;
-  out.motor_command = in.motor_command;
-  out.message = in.message;
-  return out;
-}
-
-// The same fields in the same order both ways (the schema test checks the order).
-template <typename To, typename From>
-void copySteeringStatusFields(const From& in, To& out) {
-  out.mode_name = in.mode_name;
-  out.waypoint = in.waypoint;
-  out.reached = in.reached;
-  out.total = in.total;
-  out.distance = in.distance;
-  out.azimuth_error = in.azimuth_error;
-  out.elevation = in.elevation;
-  out.target_elevation = in.target_elevation;
-  out.motor_command = in.motor_command;
-  out.slider_command = in.slider_command;
-  out.buckle_cycles = in.buckle_cycles;
-  out.in_cycle = in.in_cycle;
-  out.flipping = in.flipping;
-  out.imu_stale = in.imu_stale;
-  out.fix_stale = in.fix_stale;
-  out.slider_saturated = in.slider_saturated;
-  out.pitching = in.pitching;
-  out.crab = in.crab;
-  out.neutral = in.neutral;
-  out.steer_offset = in.steer_offset;
-  out.trim_neutral = in.trim_neutral;
-  out.trimmed = in.trimmed;
-  out.pitch_neutral = in.pitch_neutral;
-  out.pitch_gain = in.pitch_gain;
-  out.retrims = in.retrims;
-  out.message = in.message;
-}
-inline flagella_lcm::steering_status_t toLcm(const SteeringStatus& in) {
-  flagella_lcm::steering_status_t out;
-  out.header = toLcm(in.header);
-  out.mode = static_cast<int8_t>(in.mode);
-  out.estimated_position = toLcm(in.estimated_position);
-  copySteeringStatusFields(in, out);
-  return out;
-}
-inline SteeringStatus toRos(const flagella_lcm::steering_status_t& in) {
-  SteeringStatus out;
-  out.header = toRos(in.header);
-  out.mode = static_cast<uint8_t>(in.mode);
-  out.estimated_position = toRos(in.estimated_position);
-  copySteeringStatusFields(in, out);
-  return out;
-}
-
-inline flagella_lcm::point_stamped_t toLcm(const geometry_msgs::PointStamped& in) {
-  flagella_lcm::point_stamped_t out;
-  out.header = toLcm(in.header);
-  out.point = toLcm(in.point);
-  return out;
-}
-inline geometry_msgs::PointStamped toRos(const flagella_lcm::point_stamped_t& in) {
-  geometry_msgs::PointStamped out;
-  out.header = toRos(in.header);
-  out.point = toRos(in.point);
-  return out;
-}
-
-inline flagella_lcm::imu_t toLcm(const sensor_msgs::Imu& in) {
-  flagella_lcm::imu_t out;
-  out.header = toLcm(in.header);
-  out.orientation = toLcm(in.orientation);
-  copyFixed(in.orientation_covariance, out.orientation_covariance);
-  out.angular_velocity = toLcm(in.angular_velocity);
-  copyFixed(in.angular_velocity_covariance, out.angular_velocity_covariance);
-  out.linear_acceleration = toLcm(in.linear_acceleration);
-  copyFixed(in.linear_acceleration_covariance, out.linear_acceleration_covariance);
-  return out;
-}
-inline sensor_msgs::Imu toRos(const flagella_lcm::imu_t& in) {
-  sensor_msgs::Imu out;
-  out.header = toRos(in.header);
-  out.orientation = toRos(in.orientation);
-  copyFixed(in.orientation_covariance, out.orientation_covariance);
-  out.angular_velocity = toRos(in.angular_velocity);
-  copyFixed(in.angular_velocity_covariance, out.angular_velocity_covariance);
-  out.linear_acceleration = toRos(in.linear_acceleration);
-  copyFixed(in.linear_acceleration_covariance, out.linear_acceleration_covariance);
+/// The ROS message of an LCM twin.
+template <typename Lcm>
+typename lcm_twin::RosOf<Lcm>::type toRos(const Lcm& in) {
+  typename lcm_twin::RosOf<Lcm>::type out;
+  lcm_twin::convert(in, out);
   return out;
 }
 
