@@ -56,6 +56,14 @@ struct Shortcuts {
   }
 };
 
+// A listing subcommand (effects, robots) with its --markdown flag.
+CLI::App* addListing(CLI::App& app, const char* name, const char* what, const char* markdown_help,
+                     bool& markdown) {
+  CLI::App* cmd = app.add_subcommand(name, what);
+  cmd->add_flag("--markdown", markdown, markdown_help);
+  return cmd;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -111,15 +119,13 @@ int main(int argc, char** argv) {
   CLI::App* params_cmd = app.add_subcommand("params", "list the named parameters of a config");
   addCommon(params_cmd, params);
 
-  bool effects_markdown = false;
+  bool effects_markdown = false, robots_markdown = false;
   CLI::App* effects_cmd =
-      app.add_subcommand("effects", "list every effect a config can switch on, with its schema");
-  effects_cmd->add_flag("--markdown", effects_markdown, "print the README's effect table");
-
-  bool robots_markdown = false;
+      addListing(app, "effects", "list every effect a config can switch on, with its schema",
+                 "print the README's effect table", effects_markdown);
   CLI::App* robots_cmd =
-      app.add_subcommand("robots", "list every robot type a config can name, with its fields");
-  robots_cmd->add_flag("--markdown", robots_markdown, "print the README's robot tables");
+      addListing(app, "robots", "list every robot type a config can name, with its fields",
+                 "print the README's robot tables", robots_markdown);
 
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
   return flagella::cli::runGuarded([&] {
