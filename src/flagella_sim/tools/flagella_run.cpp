@@ -56,6 +56,24 @@ struct Shortcuts {
   }
 };
 
+// The sweep subcommand and its options.
+CLI::App* addSweep(CLI::App& app, SweepOptions& sweep, Shortcuts& shortcuts) {
+  CLI::App* cmd = app.add_subcommand("sweep", "sweep omega_T and n; write sweep.csv and sweep.png");
+  addCommon(cmd, sweep);
+  shortcuts.add(cmd, false, false);
+  cmd->add_option("--omega-rpm", sweep.omega_rpm, "motor speeds [rpm]")->delimiter(',')->required();
+  cmd->add_option("--n-tails", sweep.n_tails,
+                  "tail counts (multi-tail robots; default: the config's, one line)")
+      ->delimiter(',');
+  sweep.jobs = flagella::defaultJobs();
+  cmd->add_option("--jobs", sweep.jobs, "parallel runs, in [1, 256] (default: the core count)")
+      ->capture_default_str();
+  sweep.plot_script = FLAGELLA_PLOT_SCRIPT;
+  cmd->add_option("--plot-script", sweep.plot_script, "matplotlib plot script ('' to skip)")
+      ->capture_default_str();
+  return cmd;
+}
+
 // A listing subcommand (effects, robots) with its --markdown flag.
 CLI::App* addListing(CLI::App& app, const char* name, const char* what, const char* markdown_help,
                      bool& markdown) {
@@ -84,24 +102,7 @@ int main(int argc, char** argv) {
 
   SweepOptions sweep;
   Shortcuts sweep_short;
-  CLI::App* sweep_cmd =
-      app.add_subcommand("sweep", "sweep omega_T and n; write sweep.csv and sweep.png");
-  addCommon(sweep_cmd, sweep);
-  sweep_short.add(sweep_cmd, false, false);
-  sweep_cmd->add_option("--omega-rpm", sweep.omega_rpm, "motor speeds [rpm]")
-      ->delimiter(',')
-      ->required();
-  sweep_cmd
-      ->add_option("--n-tails", sweep.n_tails,
-                   "tail counts (multi-tail robots; default: the config's, one line)")
-      ->delimiter(',');
-  sweep.jobs = flagella::defaultJobs();
-  sweep_cmd
-      ->add_option("--jobs", sweep.jobs, "parallel runs, in [1, 256] (default: the core count)")
-      ->capture_default_str();
-  sweep.plot_script = FLAGELLA_PLOT_SCRIPT;
-  sweep_cmd->add_option("--plot-script", sweep.plot_script, "matplotlib plot script ('' to skip)")
-      ->capture_default_str();
+  CLI::App* sweep_cmd = addSweep(app, sweep, sweep_short);
 
   BeamOptions beam;
   Shortcuts beam_short;
