@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "flagella_sim/actuation/motor_load.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/simulation/simulation.h"
 
@@ -92,7 +93,7 @@ TEST(HelicalPhysics, GimbalMotorTorqueEqualsHydrodynamicTorque) {
   for (int i : net.parts.tail_nodes.front())
     hydro += t.dot((nodePosition(end.q, i) - x1).cross(F.segment<3>(3 * i)));
   const MotorLoad load =
-      sim.stepper().motorLoad(end, sim.lastMotorCommand(), end.time + sim.config().dt);
+      motorLoadAt(sim.network(), end, sim.lastMotorCommand(), end.time + sim.config().dt);
   ASSERT_GT(std::abs(hydro), 0.0);
   // The motor spring's moment on the (fixed) housing balances the fluid's torque on the
   // flagellum, up to the small rotational inertia of the spinning parts.

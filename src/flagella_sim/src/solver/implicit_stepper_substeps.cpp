@@ -2,6 +2,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "flagella_sim/actuation/motor_load.h"
 #include "flagella_sim/elastic/bend_twist_energy.h"
 #include "flagella_sim/rod/rod_kinematics.h"
 #include "flagella_sim/solver/implicit_stepper.h"
@@ -58,7 +59,7 @@ ImplicitStepper::SubstepDrive ImplicitStepper::substepDrive(const RodState& stat
   drive.command = motor.commandAt(t_next);
   drive.omega = drive.command;
   if (motor.needsLoad() && std::isfinite(drive.command))
-    drive.omega = motor.speed(drive.command, motorLoad(state, drive.command, t_next));
+    drive.omega = motor.speed(drive.command, motorLoadAt(net_, state, drive.command, t_next));
   if (!std::isfinite(drive.omega)) {
     std::ostringstream msg;
     msg << "motor " << (std::isfinite(drive.command) ? "speed" : "command") << " is not finite ("
@@ -157,22 +158,4 @@ StepReport ImplicitStepper::step(RodState& state, double dt, const MotorCommand&
   return step(state, dt, motor);
 }
 
-MotorLoad ImplicitStepper::motorLoad(const RodState& state, double omega_cmd,
-                                     double time_next) const {
-  MotorLoad load;
-  load.time = time_next;
-  const int index = net_.parts.motor_spring;
-  if (index < 0) return load;
-  // natural twist at t_k
-  const BendTwistSpring spring =
-      drivenSpring(net_, {index, motor_tau_bar0_ + state.motor_twist_offset});
-  const SpringEnergyTerms terms =
-      bendTwistTerms(springGeometry(net_, spring, state.q, state.frames, index), spring, false);
-  const SpringDofMap map = springDofMap(net_, spring);
-  const int head_theta = net_.thetaIndex(net_.parts.head_edge);
-  for (int a = 9; a < 11; ++a)  // the spring's local twist DOFs (docs/model.md 1.6)
-    if (map.index[a] == head_theta) load.head_moment -= map.sign[a] * terms.gradient(a);
-  load.torque = (omega_cmd >= 0.0 ? -1.0 : 1.0) * load.head_moment;  // along the command
-  return load;
-}
 }  // namespace flagella

@@ -59,10 +59,6 @@ class ImplicitStepper {
   /// laws (its record is discarded): for stepper-level tests without a Simulation.
   StepReport step(RodState& state, double dt, const MotorCommand& schedule);
 
-  /// The motor's load at `state` (the start of a step) for a command `omega_cmd`
-  /// (docs/model.md 1.9): the motor spring's generalised force on theta^0, with the natural twist
-  /// of that state.
-  MotorLoad motorLoad(const RodState& state, double omega_cmd, double time_next) const;
   /// The effects whose torque-speed law shapes the motor speed (role MotorSpeedLaw), in order.
   std::vector<const MotorSpeedLaw*> motorSpeedLaws() const { return speed_laws_; }
   /// Viscosity of the last accepted (sub)step: medium mu0 times the effects' factors [Pa s].
