@@ -81,8 +81,8 @@ YAML::Node loadSingleKeyFile(const std::string& path, const std::string& key,
 }
 
 MapReader::MapReader(const YAML::Node& node, std::string path, std::string file, std::string what)
-    : node_(node), path_(std::move(path)), file_(std::move(file)), what_(std::move(what)) {
-  if (!node_.IsMap()) fail(path_, "must be a map");
+    : map_(node, std::move(path)), file_(std::move(file)), what_(std::move(what)) {
+  if (!node.IsMap()) fail(map_.path(), "must be a map");
 }
 
 void MapReader::fail(const std::string& field, const std::string& what) const {
@@ -90,8 +90,7 @@ void MapReader::fail(const std::string& field, const std::string& what) const {
 }
 
 YAML::Node MapReader::get(const std::string& key) {
-  used_.insert(key);
-  const YAML::Node n = node_[key];
+  const YAML::Node n = map_.take(key);
   if (!n) fail(field(key), "is missing");
   return n;
 }
@@ -114,10 +113,8 @@ std::string MapReader::string(const std::string& key) {
 }
 
 void MapReader::rejectUnknown() const {
-  for (const auto& entry : node_) {
-    const std::string key = entry.first.as<std::string>();
-    if (!used_.count(key)) fail(field(key), "is not a known field");
-  }
+  if (const std::optional<YAML::Node> unknown = map_.firstUnknownKey())
+    fail(field(unknown->as<std::string>()), "is not a known field");
 }
 
 }  // namespace flagella::control

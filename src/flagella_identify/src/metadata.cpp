@@ -9,6 +9,7 @@
 #include "csv.h"
 #include "data_io_names.h"
 #include "flagella_identify/data_error.h"
+#include "flagella_sim/core/strict_map.h"
 #include "flagella_sim/core/strict_yaml.h"
 #include "flagella_sim/core/text_lists.h"
 #include "text_format.h"
@@ -34,12 +35,11 @@ void Metadata::fail(const YAML::Node& at, const std::string& message) const {
 
 void Metadata::rejectUnknownKeys(const YAML::Node& map, const std::string& prefix,
                                  const std::vector<std::string>& allowed) const {
-  for (const auto& kv : map) {
-    const std::string key = keyText(kv.first, prefix);
-    if (!contains(allowed, key))
-      fail(kv.first, "unknown key '" + prefix + abbreviated(key) +
-                         "' (allowed: " + joined(allowed, ", ") + ")");
-  }
+  const StrictMap strict(map, prefix);
+  for (const std::string& key : allowed) strict.markKnown(key);
+  if (const std::optional<YAML::Node> unknown = strict.firstUnknownKey())
+    fail(*unknown, "unknown key '" + prefix + abbreviated(keyText(*unknown, prefix)) +
+                       "' (allowed: " + joined(allowed, ", ") + ")");
 }
 
 std::string Metadata::keyText(const YAML::Node& key, const std::string& prefix) const {

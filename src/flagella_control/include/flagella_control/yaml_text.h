@@ -5,8 +5,9 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <set>
 #include <string>
+
+#include "flagella_sim/core/strict_map.h"
 
 namespace flagella::control {
 
@@ -32,9 +33,9 @@ class MapReader {
   MapReader(const YAML::Node& node, std::string path, std::string file, std::string what);
 
   [[noreturn]] void fail(const std::string& field, const std::string& what) const;
-  std::string field(const std::string& key) const { return path_ + "." + key; }
+  std::string field(const std::string& key) const { return map_.path() + "." + key; }
   YAML::Node get(const std::string& key);
-  bool has(const std::string& key) const { return static_cast<bool>(node_[key]); }
+  bool has(const std::string& key) const { return map_.contains(key); }
   double number(const std::string& key) { return parseNumber(get(key), field(key)); }
   double parseNumber(const YAML::Node& n, const std::string& name) const;
   std::string string(const std::string& key);
@@ -42,9 +43,8 @@ class MapReader {
   void rejectUnknown() const;
 
  private:
-  YAML::Node node_;
-  std::string path_, file_, what_;
-  std::set<std::string> used_;
+  StrictMap map_;  ///< the map and the keys read
+  std::string file_, what_;
 };
 
 }  // namespace flagella::control

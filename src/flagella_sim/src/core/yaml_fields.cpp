@@ -16,22 +16,15 @@ std::string where(const YAML::Node& node) {
 }
 }  // namespace
 
-FieldReader::FieldReader(const YAML::Node& node, std::string path)
-    : node_(node), path_(std::move(path)) {
-  if (node_ && !node_.IsNull() && !node_.IsMap())
-    throw ConfigError((path_.empty() ? std::string("the config") : path_) +
-                      " must be a map of fields" + where(node_));
+FieldReader::FieldReader(const YAML::Node& node, std::string path) : map_(node, std::move(path)) {
+  if (node && !node.IsNull() && !node.IsMap())
+    throw ConfigError((this->path().empty() ? std::string("the config") : this->path()) +
+                      " must be a map of fields" + where(node));
 }
 
 bool FieldReader::has(const std::string& key) const {
-  used_.insert(key);  // asked about: a known field (given as null it means "not given")
-  return node_ && node_.IsMap() && node_[key] && !node_[key].IsNull();
-}
-
-YAML::Node FieldReader::get(const std::string& key) {
-  used_.insert(key);
-  if (!node_ || !node_.IsMap()) return YAML::Node();
-  return node_[key];
+  map_.markKnown(key);  // asked about: a known field (given as null it means "not given")
+  return map_.contains(key) && !map_.node()[key].IsNull();
 }
 
 void FieldReader::describe(const std::string& key, std::string fallback, std::string range,
@@ -150,23 +143,12 @@ FieldReader FieldReader::child(const std::string& key) {
   return c;
 }
 
-std::vector<std::string> FieldReader::keys() const {
-  std::vector<std::string> out;
-  if (!node_ || !node_.IsMap()) return out;
-  for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
-  return out;
-}
+std::vector<std::string> FieldReader::keys() const { return map_.keys(); }
 
 void FieldReader::rejectUnknown() const {
-  if (!node_ || !node_.IsMap()) return;
-  for (const auto& kv : node_) {
-    const std::string key = kv.first.as<std::string>();
-    if (!used_.count(key)) {
-      std::vector<std::string> allowed(used_.begin(), used_.end());
-      throw ConfigError("unknown field '" + field(key) + "'" + where(kv.first) +
-                        " (allowed: " + joined(allowed) + ")");
-    }
-  }
+  if (const std::optional<YAML::Node> unknown = map_.firstUnknownKey())
+    throw ConfigError("unknown field '" + field(unknown->as<std::string>()) + "'" +
+                      where(*unknown) + " (allowed: " + joined(map_.knownKeys()) + ")");
 }
 
 void applyOverride(YAML::Node& root, const std::string& assignment) {

@@ -4,11 +4,11 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <set>
 #include <string>
 #include <vector>
 
 #include "flagella_sim/core/parameter_set.h"
+#include "flagella_sim/core/strict_map.h"
 #include "flagella_sim/core/text_lists.h"
 #include "flagella_sim/core/types.h"
 
@@ -39,10 +39,10 @@ class FieldReader {
   FieldReader child(const std::string& key);
   /// Keys of the map (for maps whose keys are names, e.g. the effects list).
   std::vector<std::string> keys() const;
-  const std::string& path() const { return path_; }
+  const std::string& path() const { return map_.path(); }
   /// The dotted name of `key` in messages (a long key abbreviated: it may be any user text).
   std::string field(const std::string& key) const {
-    return path_.empty() ? abbreviated(key) : path_ + "." + abbreviated(key);
+    return path().empty() ? abbreviated(key) : path() + "." + abbreviated(key);
   }
 
   /// Throws ConfigError if the map holds a key nothing asked for.
@@ -57,10 +57,8 @@ class FieldReader {
                 std::string unit = "");
 
  private:
-  YAML::Node get(const std::string& key);
-  YAML::Node node_;
-  std::string path_;
-  mutable std::set<std::string> used_;  ///< fields asked for (has() included)
+  YAML::Node get(const std::string& key) { return map_.take(key); }
+  StrictMap map_;  ///< the section and the fields asked for (has() included)
   std::vector<FieldSchema>* schema_ = nullptr;
 };
 
