@@ -49,7 +49,7 @@ void SessionOptions::validate() const {
 SimSession::SimSession(SimulationConfig config, SessionOptions options)
     : config_(std::move(config)),
       options_((options.validate(), std::move(options))),
-      slider_gate_(sliderGateOptions(options_)),
+      slider_commands_(sliderGateOptions(options_)),
       imu_(options_.imu, config_.medium.gravity),
       accelerometer_(options_.accelerometer),
       camera_(options_.camera),
@@ -69,7 +69,7 @@ void SimSession::start() {
 }
 
 void SimSession::reset() {
-  slider_gate_.clear();
+  slider_commands_.clear();
   accelerometer_ = Accelerometer(options_.accelerometer);  // its clock starts again at t = 0
   steps_ = solver_failures_ = 0;
   last_failure_.clear();
@@ -81,13 +81,12 @@ CommandVerdict SimSession::commandMotor(double omega) {
 }
 
 CommandVerdict SimSession::commandSlider(double position) {
-  return slider_gate_.submit(position, time());
+  return slider_commands_.submit(position, time());
 }
 
 bool SimSession::step() {
   if (halted_) return false;
-  Slider* slider = sim_->slider();
-  if (slider && slider_gate_.hasCommand()) slider->setTarget(slider_gate_.output(time()));
+  slider_commands_.beginStep(sim_->slider(), time());
   try {
     sim_->step();
   } catch (const SolverFailure& first) {
@@ -148,8 +147,9 @@ SessionHealth SimSession::health() const {
   const CommandGate& motor_gate = *sim_->motor().gate();
   h.motor_accepted = motor_gate.acceptedCount();
   h.motor_rejected = motor_gate.rejectedCount();
-  h.slider_accepted = slider_gate_.acceptedCount();
-  h.slider_rejected = slider_gate_.rejectedCount();
+  const CommandGate& slider_gate = slider_commands_.gate();
+  h.slider_accepted = slider_gate.acceptedCount();
+  h.slider_rejected = slider_gate.rejectedCount();
   h.failsafe_active = motor_gate.failsafeTripped(time());
   h.halted = halted_;
   h.motor_applied = sim_->lastMotorCommand();
@@ -157,10 +157,10 @@ SessionHealth SimSession::health() const {
     h.slider_position = slider->state().position;
     h.slider_at_stop = slider->state().at_stop;
   } else {
-    h.slider_position = slider_gate_.output(time());
+    h.slider_position = slider_commands_.setPoint(time());
   }
-  h.last_rejection = motor_gate.lastRejection().empty() ? slider_gate_.lastRejection()
-                                                        : motor_gate.lastRejection();
+  h.last_rejection =
+      motor_gate.lastRejection().empty() ? slider_gate.lastRejection() : motor_gate.lastRejection();
   h.last_solver_failure = last_failure_;
   if (halted_) {
     h.level = HealthLevel::Error;

@@ -9,6 +9,7 @@
 
 #include "flagella_sim/actuation/command_gate.h"
 #include "flagella_sim/actuation/motor_command.h"
+#include "flagella_sim/actuation/slider_commands.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/runtime/accelerometer.h"
 #include "flagella_sim/runtime/camera_model.h"
@@ -101,7 +102,7 @@ class SimSession {
   SimulationConfig config_;
   SessionOptions options_;
   std::unique_ptr<Simulation> sim_;  ///< its motor takes the commands (Motor::takeCommands)
-  CommandGate slider_gate_;
+  SliderCommands slider_commands_;   ///< latched into the slider each step
   ImuModel imu_;
   Accelerometer accelerometer_;
   CameraModel camera_;
