@@ -50,6 +50,9 @@ expect_bad_input "needs a robot with a slider" "$bin/flagella_steer_robustness" 
 expect_bad_input "model error 'k_t'" "$bin/flagella_steer_robustness" \
   --calibration "$cfg/calibration/helical_steering.yaml" --config "$cfg/helical_steering.yaml" \
   --waypoints "$cfg/paths/steering_demo.yaml" --keys eps k_t --runs 1
+# A robot without a slider cannot be calibrated for steering: bad input, before any run.
+expect_bad_input "the config has no slider: section" "$bin/flagella_steer_calibrate" \
+  "$cfg/helical_robot.yaml" -o "$work/cal.yaml"
 # A park position outside the slider's travel fails before the calibration's minutes of runs.
 expect_bad_input "slider: the park position" "$bin/flagella_steer_calibrate" \
   "$cfg/helical_steering.yaml" -o "$work/cal.yaml" --set effects.com_offset.offset=5e-3

@@ -304,7 +304,9 @@ SteeringCalibration calibrateSteering(const flagella::SimulationConfig& config,
                                       const std::function<void(const std::string&)>& progress) {
   options.validate();
   if (!config.slider.enabled)
-    throw std::runtime_error("steering calibration: the config has no slider: section");
+    throw std::invalid_argument(
+        "steering calibration: the config has no slider: section (the mass-transformer's "
+        "internal mass, with effects.com_offset; config/helical_steering_source.yaml has one)");
   const ProgressReport report = [&](const std::string& line) {
     if (progress) progress(line);
   };
