@@ -17,12 +17,17 @@ namespace flagella {
 namespace {
 
 std::vector<const RobotDescriptor*>& mutableRegistry() {
-  static std::vector<const RobotDescriptor*> table = {
-#define FLAGELLA_ROBOT(descriptor) &descriptor(),
-#include "robot_list.def"
-#undef FLAGELLA_ROBOT
-  };
+  static std::vector<const RobotDescriptor*> table = listedRobotTypes();
   return table;
+}
+
+// The type parsed from an empty section: its defaults, and (with `schema`) the fields it reads.
+std::shared_ptr<RobotModel> parseEmptySection(const RobotDescriptor& type,
+                                              std::vector<FieldSchema>* schema) {
+  FieldReader empty(YAML::Node(), "robot");
+  empty.recordSchema(schema);
+  RobotHeadSize head;
+  return type.parse(empty, head);
 }
 
 }  // namespace
@@ -60,11 +65,8 @@ std::vector<std::string> registeredRobotNames() {
 }
 
 std::shared_ptr<const RobotModel> defaultRobot() {
-  static const std::shared_ptr<const RobotModel> robot = [] {
-    FieldReader empty(YAML::Node(), "robot");
-    RobotHeadSize head;
-    return std::shared_ptr<const RobotModel>(robotRegistry().front()->parse(empty, head));
-  }();
+  static const std::shared_ptr<const RobotModel> robot =
+      parseEmptySection(*robotRegistry().front(), nullptr);
   return robot;
 }
 
@@ -76,10 +78,7 @@ std::string cell(const std::string& text) { return text.empty() ? "-" : text; }
 
 std::vector<FieldSchema> robotSchema(const RobotDescriptor& type) {
   std::vector<FieldSchema> fields;
-  FieldReader empty(YAML::Node(), "robot");
-  empty.recordSchema(&fields);
-  RobotHeadSize head;
-  type.parse(empty, head);
+  parseEmptySection(type, &fields);
   return fields;
 }
 
