@@ -6,6 +6,7 @@
 
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/effects/effect_registry.h"
+#include "flagella_sim/simulation/simulation_config.h"
 
 namespace flagella {
 namespace identify {
@@ -33,9 +34,9 @@ void setEffect(YAML::Node& config, const std::string& effect,
   for (const auto& [key, value] : fields) effects[effect][key] = value;
 }
 
+// The robot's tail count as its type's parser reads it (defaults included).
 int tailCount(const YAML::Node& config) {
-  const YAML::Node n = config["robot"]["n_tails"];
-  return n ? n.as<int>() : 2;  // MultiTailGeometry's default
+  return parseSimulationConfig(config, "candidate").robot->tailCount();
 }
 
 /// The candidate of a registered effect: its descriptor's fittable parameters, named

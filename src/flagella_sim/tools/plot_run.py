@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Plot one run of flagella_run: the head's path (in the plane of the two coordinates it spans
-most), its speed and yaw rate over time, and for the helical robot the flagellum's tilt with the
-buckling criterion, from the run's timeseries.csv (and summary.json beside it, for the title).
+most), its speed and yaw rate over time, and for a robot with a flagellum tilt (the helical one)
+the tilt with the buckling criterion, from the run's timeseries.csv (and summary.json beside it, for the title).
 
 Usage: plot_run.py timeseries.csv out.png
 
@@ -88,13 +88,13 @@ def sliding_slope(times, values, window):
 
 
 def title_of(summary, table_path):
-    """Config, robot, motor rate and, for the helical robot, the buckling verdict."""
+    """Config, robot, motor rate and, for a robot whose summary has a buckling verdict, it."""
     if not summary:
         return os.path.basename(table_path)
     parts = [os.path.basename(str(summary.get("config", table_path))), str(summary.get("robot", ""))]
     if "omega_T_rpm" in summary:
         parts.append("omega_T = %.3g rpm" % summary["omega_T_rpm"])
-    if summary.get("robot") == "helical" and "flagellum_tilt_max_deg" in summary:
+    if "flagellum_tilt_max_deg" in summary:
         verdict = "BUCKLED" if summary.get("buckled") else "straight"
         parts.append("%s: flagellum tilt max %.2f deg (criterion %.0f deg)" % (
             verdict, summary["flagellum_tilt_max_deg"], summary.get("buckling_tilt_deg", 15.0)))
@@ -151,16 +151,18 @@ def main():
         print("plot_run: %s" % e, file=sys.stderr)
         return 2
     summary = read_summary(args.table)
-    helical = "flagellum_tilt" in t and (summary.get("robot") == "helical" or
-                                         any(v != 0.0 for v in t["flagellum_tilt"]))
-    panels = 4 if helical else 3
+    # the tilt panel for a robot with a flagellum tilt (its summary has the buckling verdict; without
+    # a summary, a tilt column that is not all zero)
+    tilted = "flagellum_tilt" in t and ("flagellum_tilt_max_deg" in summary or
+                                        any(v != 0.0 for v in t["flagellum_tilt"]))
+    panels = 4 if tilted else 3
     fig, axes = plt.subplots(1, panels, figsize=(4.4 * panels, 4.4))
     draw_path(axes[0], t)
     draw_speed(axes[1], t, summary)
     axes[2].plot(t["time"], [math.degrees(w) for w in t["yaw_rate"]], "tab:orange")
     axes[2].set_xlabel("t [s]")
     axes[2].set_ylabel("yaw rate [deg/s]")
-    if helical:
+    if tilted:
         draw_tilt(axes[3], t, summary)
     for ax in axes:
         ax.grid(True, alpha=0.3)

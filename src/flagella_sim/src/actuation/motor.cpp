@@ -1,5 +1,9 @@
 #include "flagella_sim/actuation/motor.h"
 
+#include <cmath>
+
+#include "flagella_sim/actuation/motor_load.h"
+
 namespace flagella {
 
 Motor::Motor(std::shared_ptr<const MotorCommand> schedule) : schedule_(std::move(schedule)) {}
@@ -38,10 +42,23 @@ double Motor::commandAt(double t_next) const {
   return gate_ ? latched_ : schedule_->omega(t_next);
 }
 
-double Motor::speed(double command, const MotorLoad& load) const {
-  double omega = command;
-  for (const MotorSpeedLaw* law : speed_laws_) omega = law->motorSpeed(omega, load);
-  return omega;
+MotorDrive Motor::drive(const RodNetwork& net, const RodState& state, double t_next,
+                        double dt) const {
+  MotorDrive d;
+  d.command = commandAt(t_next);
+  d.speed = d.command;
+  if (!speed_laws_.empty() && std::isfinite(d.command)) {
+    const MotorLoad load = motorLoadAt(net, state, d.command, t_next);
+    for (const MotorSpeedLaw* law : speed_laws_) d.speed = law->motorSpeed(d.speed, load);
+  }
+  // docs/model.md 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
+  d.twist_offset = state.motor_twist_offset + d.speed * dt;
+  return d;
+}
+
+void Motor::apply(const MotorDrive& drive, RodState& accepted) {
+  accepted.motor_twist_offset = drive.twist_offset;
+  record_ = {drive.command, drive.speed};
 }
 
 }  // namespace flagella

@@ -2,7 +2,6 @@
 #include <cmath>
 #include <sstream>
 
-#include "flagella_sim/actuation/motor_load.h"
 #include "flagella_sim/elastic/bend_twist_energy.h"
 #include "flagella_sim/rod/rod_kinematics.h"
 #include "flagella_sim/solver/implicit_stepper.h"
@@ -31,17 +30,16 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& mot
   while (static_cast<int>(trial_states_.size()) <= depth) trial_states_.emplace_back();
   RodState& trial = trial_states_[depth];  // storage reused; solveStep writes q, qdot, frames
   const double t_next = state.time + dt;
-  const SubstepDrive drive = substepDrive(state, t_next, motor);
+  const SubstepDrive drive = substepDrive(state, t_next, dt, motor);
   const StepStart start{net_, state, dt, medium_, drive.viscosity};
   {
     ProfileScope timer(profile_, &StepProfile::effects);
     for (StepHooks* hooks : step_hooks_) hooks->beginStep(start);
   }
-  // docs/model.md 1.9: tau_bar(t_{k+1}) = tau_bar(t_k) + omega(t_{k+1}) dt (fully implicit)
-  const double offset = state.motor_twist_offset + drive.omega * dt;
-  const Attempt a = solveWithDampedRetry(state, trial, dt, offset, drive.viscosity);
+  const Attempt a =
+      solveWithDampedRetry(state, trial, dt, drive.motor.twist_offset, drive.viscosity);
   if (a.converged) {
-    acceptSubstep(state, trial, t_next, offset, drive, motor);
+    acceptSubstep(state, trial, t_next, drive, motor);
     return {a.iterations, 1, a.residual, a.damped_retried ? 1 : 0};
   }
   if (depth >= options_.max_subdivision_depth)
@@ -50,20 +48,17 @@ StepReport ImplicitStepper::stepRecursive(RodState& state, double dt, Motor& mot
 }
 
 ImplicitStepper::SubstepDrive ImplicitStepper::substepDrive(const RodState& state, double t_next,
-                                                            Motor& motor) const {
-  // Effect hooks of this (sub)step: viscosity factor (product) and motor speed (chained).
+                                                            double dt, const Motor& motor) const {
+  // Effect hooks of this (sub)step: viscosity factor (product); the motor's drive.
   SubstepDrive drive;
   for (const ViscosityLaw* law : viscosity_laws_)
     drive.viscosity_factor *= law->viscosityFactor(t_next);
   drive.viscosity = medium_.viscosity() * drive.viscosity_factor;
-  drive.command = motor.commandAt(t_next);
-  drive.omega = drive.command;
-  if (motor.needsLoad() && std::isfinite(drive.command))
-    drive.omega = motor.speed(drive.command, motorLoadAt(net_, state, drive.command, t_next));
-  if (!std::isfinite(drive.omega)) {
+  drive.motor = motor.drive(net_, state, t_next, dt);
+  if (!std::isfinite(drive.motor.speed)) {
     std::ostringstream msg;
-    msg << "motor " << (std::isfinite(drive.command) ? "speed" : "command") << " is not finite ("
-        << drive.omega << ") at t = " << t_next << " s";
+    msg << "motor " << (std::isfinite(drive.motor.command) ? "speed" : "command")
+        << " is not finite (" << drive.motor.speed << ") at t = " << t_next << " s";
     throw SolverFailure(msg.str());
   }
   return drive;
@@ -84,14 +79,13 @@ ImplicitStepper::Attempt ImplicitStepper::solveWithDampedRetry(const RodState& s
 }
 
 void ImplicitStepper::acceptSubstep(RodState& state, RodState& trial, double t_next,
-                                    double motor_offset, const SubstepDrive& drive, Motor& motor) {
+                                    const SubstepDrive& drive, Motor& motor) {
   trial.time = t_next;
-  trial.motor_twist_offset = motor_offset;
+  motor.apply(drive.motor, trial);
   {
     ProfileScope timer(profile_, &StepProfile::effects);
     for (StepHooks* hooks : step_hooks_) hooks->acceptStep(net_, state, trial);
   }
-  motor.recordApplied(drive.command, drive.omega);
   viscosity_factor_ = drive.viscosity_factor;
   std::swap(state, trial);  // trial keeps the old state's storage for the next step
 }

@@ -111,8 +111,7 @@ class ImplicitStepper {
   struct SubstepDrive {
     double viscosity_factor = 1.0;  ///< product of the effects' factors
     double viscosity = 0.0;         ///< [Pa s]
-    double command = 0.0;           ///< the motor's command [rad/s]
-    double omega = 0.0;             ///< the motor's speed after its torque-speed laws [rad/s]
+    MotorDrive motor;               ///< the motor's command, speed and natural twist
   };
 
   /// One Newton solve of the step; `damped`: backtrack each update until the scaled residual
@@ -152,13 +151,14 @@ class ImplicitStepper {
   StepReport stepRecursive(RodState& state, double dt, Motor& motor, int depth);
   /// The viscosity and motor speed of the (sub)step from `state` to t_next; throws SolverFailure
   /// when the motor's command or speed is not finite.
-  SubstepDrive substepDrive(const RodState& state, double t_next, Motor& motor) const;
+  SubstepDrive substepDrive(const RodState& state, double t_next, double dt,
+                            const Motor& motor) const;
   /// The plain attempt and, if it fails, the damped retry (NewtonOptions::damped_retry).
   Attempt solveWithDampedRetry(const RodState& start, RodState& result, double dt,
                                double motor_offset, double viscosity);
   /// An accepted (sub)step: the effects' and the motor's records; `trial` becomes `state`.
-  void acceptSubstep(RodState& state, RodState& trial, double t_next, double motor_offset,
-                     const SubstepDrive& drive, Motor& motor);
+  void acceptSubstep(RodState& state, RodState& trial, double t_next, const SubstepDrive& drive,
+                     Motor& motor);
   /// The step from `state` as two half steps one level deeper (`failed_iterations`: spent on the
   /// failed attempts at this level).
   StepReport subdivide(RodState& state, double dt, Motor& motor, int depth, int failed_iterations);
