@@ -6,7 +6,7 @@
 
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/effects/effect_registry.h"
-#include "flagella_sim/simulation/simulation_config.h"
+#include "flagella_sim/robots/robot_registry.h"
 
 namespace flagella {
 namespace identify {
@@ -34,9 +34,12 @@ void setEffect(YAML::Node& config, const std::string& effect,
   for (const auto& [key, value] : fields) effects[effect][key] = value;
 }
 
-// The robot's tail count as its type's parser reads it (defaults included).
+// The robot's tail count as its type's parser reads it (defaults included); only the robot
+// section is read (the model run parses the whole config once more anyway).
 int tailCount(const YAML::Node& config) {
-  return parseSimulationConfig(config, "candidate").robot->tailCount();
+  FieldReader robot(config["robot"], "robot");
+  RobotHeadSize head;
+  return parseRobotSection(robot, head)->tailCount();
 }
 
 /// The candidate of a registered effect: its descriptor's fittable parameters, named

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Plot one run of flagella_run: the head's path (in the plane of the two coordinates it spans
 most), its speed and yaw rate over time, and for a robot with a flagellum tilt (the helical one)
-the tilt with the buckling criterion, from the run's timeseries.csv (and summary.json beside it, for the title).
+the tilt with the buckling criterion, from the run's timeseries.csv (and summary.json beside it,
+for the title).
 
 Usage: plot_run.py timeseries.csv out.png
 

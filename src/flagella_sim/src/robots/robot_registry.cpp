@@ -64,6 +64,14 @@ std::vector<std::string> registeredRobotNames() {
   return names;
 }
 
+std::shared_ptr<RobotModel> parseRobotSection(FieldReader& robot, RobotHeadSize& head) {
+  const std::vector<std::string> types = registeredRobotNames();
+  const RobotDescriptor* d = findRobotDescriptor(robot.choice("type", types.front(), types));
+  std::shared_ptr<RobotModel> model = d->parse(robot, head);
+  robot.rejectUnknown();
+  return model;
+}
+
 std::shared_ptr<const RobotModel> defaultRobot() {
   static const std::shared_ptr<const RobotModel> robot =
       parseEmptySection(*robotRegistry().front(), nullptr);

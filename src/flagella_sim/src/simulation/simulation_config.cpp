@@ -21,13 +21,10 @@ constexpr double kMaxMotorRpm = 1e4;
 
 // robot.type names the type (robot_registry.h); its descriptor reads the other fields.
 void parseRobot(FieldReader r, SimulationConfig& c) {
-  const std::vector<std::string> types = registeredRobotNames();
-  const RobotDescriptor* d = findRobotDescriptor(r.choice("type", types.front(), types));
   RobotHeadSize head;
-  c.robot = d->parse(r, head);
+  c.robot = parseRobotSection(r, head);
   c.head_radius = head.radius;
   c.head_length = head.length;
-  r.rejectUnknown();
 }
 
 void parseMedium(FieldReader r, SimulationConfig& c) {

@@ -71,14 +71,14 @@ class Motor {
   double lastSpeed() const { return record_.speed; }
 
  private:
+  /// The command for the (sub)step ending at `t_next` [rad/s].
+  double commandAt(double t_next) const;
+
   std::shared_ptr<const MotorCommand> schedule_;
   std::optional<CommandGate> gate_;
   bool schedule_until_first_command_ = true;
   bool stopped_ = false;
   double latched_ = 0.0;
-  /// The command for the (sub)step ending at `t_next` [rad/s].
-  double commandAt(double t_next) const;
-
   std::vector<const MotorSpeedLaw*> speed_laws_;
   Record record_;
 };

@@ -40,6 +40,10 @@ void registerRobotType(const RobotDescriptor& descriptor);
 const RobotDescriptor* findRobotDescriptor(const std::string& name);
 /// The registered type names, in order.
 std::vector<std::string> registeredRobotNames();
+/// Reads a config's section `robot`: robot.type names the type (default: the first registered),
+/// whose descriptor reads the other fields and sets `head`; unknown fields are refused
+/// (ConfigError naming the field).
+std::shared_ptr<RobotModel> parseRobotSection(FieldReader& robot, RobotHeadSize& head);
 /// The robot of a config that names none: the list's first type with its defaults.
 std::shared_ptr<const RobotModel> defaultRobot();
 

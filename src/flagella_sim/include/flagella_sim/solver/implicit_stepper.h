@@ -149,8 +149,8 @@ class ImplicitStepper {
   /// A (sub)step at subdivision depth `depth`: the plain attempt, the damped retry, then two
   /// half steps; assigns state only when it succeeded.
   StepReport stepRecursive(RodState& state, double dt, Motor& motor, int depth);
-  /// The viscosity and motor speed of the (sub)step from `state` to t_next; throws SolverFailure
-  /// when the motor's command or speed is not finite.
+  /// The viscosity and the motor's drive (Motor::drive) of the (sub)step of length `dt` from
+  /// `state` to t_next; throws SolverFailure when the motor's command or speed is not finite.
   SubstepDrive substepDrive(const RodState& state, double t_next, double dt,
                             const Motor& motor) const;
   /// The plain attempt and, if it fails, the damped retry (NewtonOptions::damped_retry).
