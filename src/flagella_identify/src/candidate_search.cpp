@@ -7,15 +7,22 @@
 namespace flagella {
 namespace identify {
 
+std::string Identification::skipReason(const Candidate& c, unsigned observables) const {
+  const std::string robot = notApplicableReason(c, baseline_);
+  if (!robot.empty()) return "does not apply to this robot: " + robot;
+  const std::string data = notIdentifiableReason(c, observables);
+  return data.empty() ? "" : "not identifiable from these data: " + data;
+}
+
 void Identification::fitCandidates(IdentifyResult& result) {
   const unsigned observables = observablesOf(data_);
   for (const Candidate* c : candidatesNamed(options_.candidates)) {
-    const std::string reason = notIdentifiableReason(*c, observables);
+    const std::string reason = skipReason(*c, observables);
     if (!reason.empty()) {
       ModelOutcome skipped;
       skipped.label = c->name;
       skipped.effects = {c->name};
-      skipped.note = "not identifiable from these data: " + reason;
+      skipped.note = reason;
       result.candidates.push_back(skipped);
       say("candidate " + c->name + ": skipped (" + reason + ")");
       continue;
@@ -37,7 +44,7 @@ void Identification::fitCandidates(IdentifyResult& result) {
   say("the baseline ended off its map and no candidate fitted from it leaves a residual within "
       "the noise: each candidate again by continuation");
   for (ModelOutcome& m : result.candidates) {
-    if (m.note.rfind("not identifiable", 0) == 0) continue;
+    if (!skipReason(candidateByName(m.label), observables).empty()) continue;
     std::vector<const Candidate*> effects;
     for (const std::string& name : m.effects) effects.push_back(&candidateByName(name));
     say("candidate " + m.label + " by continuation");

@@ -34,14 +34,6 @@ void setEffect(YAML::Node& config, const std::string& effect,
   for (const auto& [key, value] : fields) effects[effect][key] = value;
 }
 
-// The robot's tail count as its type's parser reads it (defaults included); only the robot
-// section is read (the model run parses the whole config once more anyway).
-int tailCount(const YAML::Node& config) {
-  FieldReader robot(config["robot"], "robot");
-  RobotHeadSize head;
-  return parseRobotSection(robot, head)->tailCount();
-}
-
 /// The candidate of a registered effect: its descriptor's fittable parameters, named
 /// "<effect>.<variable>", written into the effect's config section.
 Candidate effectCandidate(const EffectDescriptor& d) {
@@ -74,6 +66,13 @@ Candidate effectCandidate(const EffectDescriptor& d) {
     c.typical.push_back(t);
   }
   c.steady_table_data = h.steady_table_data;
+  if (!h.requires_effect.empty())
+    c.not_applicable = [&d](const YAML::Node& baseline) -> std::string {
+      const DiscoveryHints& hints = *d.discovery;
+      if (baseline["effects"] && baseline["effects"][hints.requires_effect]) return "";
+      return "acts only with " + hints.requires_what + " (effects." + hints.requires_effect +
+             "), which this robot's config does not have";
+    };
   return c;
 }
 
@@ -91,7 +90,7 @@ Candidate fabricationAsymmetryCandidate() {
   c.off = {1.0, 1.0};  // every tail alike: the baseline robot
   c.writes = {"robot.tail_length_scale", "robot.tail_stiffness_scale"};
   c.apply = [](YAML::Node& cfg, const std::vector<double>& v, double) {
-    const int n = tailCount(cfg);
+    const int n = tailCountOf(cfg);
     YAML::Node length(YAML::NodeType::Sequence), stiffness(YAML::NodeType::Sequence);
     for (int k = 0; k < n; ++k) {
       length.push_back(k == 0 ? v[0] : 1.0);
@@ -101,6 +100,11 @@ Candidate fabricationAsymmetryCandidate() {
     cfg["robot"]["tail_stiffness_scale"] = stiffness;
   };
   c.steady_table_data = false;
+  c.not_applicable = [](const YAML::Node& baseline) -> std::string {
+    const int n = tailCountOf(baseline);
+    if (n >= 2) return "";
+    return "makes tail 1 differ from the others, and this robot has " + std::to_string(n) + " tail";
+  };
   return c;
 }
 
@@ -146,6 +150,13 @@ const char* observableName(unsigned o) {
 constexpr double kMinSessionSpread = 600.0;
 
 }  // namespace
+
+int tailCountOf(const YAML::Node& config) {
+  // only the robot section is read (the model run parses the whole config once more anyway)
+  FieldReader robot(config["robot"], "robot");
+  RobotHeadSize head;
+  return parseRobotSection(robot, head)->tailCount();
+}
 
 unsigned observablesOf(const MeasuredData& data) {
   unsigned o = 0;
@@ -204,6 +215,10 @@ std::string notIdentifiableReason(const Candidate& c, unsigned observables) {
     if ((c.needs & bit) && !(observables & bit))
       missing += std::string(missing.empty() ? "" : "; ") + observableName(bit);
   return missing.empty() ? "" : "needs " + missing;
+}
+
+std::string notApplicableReason(const Candidate& c, const YAML::Node& baseline) {
+  return c.not_applicable ? c.not_applicable(baseline) : "";
 }
 
 }  // namespace identify

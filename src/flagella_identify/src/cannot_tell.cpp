@@ -44,7 +44,7 @@ bool Identification::cannotTell(IdentifyResult& result) {
   say("power of the data against each steady-state candidate at its weakest realistic strength");
   std::vector<std::string> blind;
   for (const Candidate* c : candidatesNamed(options_.candidates)) {
-    if (!c->steady_table_data || !notIdentifiableReason(*c, observables).empty()) continue;
+    if (!c->steady_table_data || !skipReason(*c, observables).empty()) continue;
     const PowerCheck check = checkPower(base, base.values(), base_chi, count, *c, evaluator_, fit);
     result.total_evaluations += check.evaluations;
     result.power.push_back(check);

@@ -45,12 +45,17 @@ SteadyStateTable generateTable(const Model& truth, const TablePlan& plan, std::u
     table.noise["omega_h"] = plan.omega_noise;
     table.noise["omega_t"] = plan.omega_noise;
   }
-  for (int n : plan.n_tails)
+  // no tail counts: the baseline's robot, no override
+  const std::vector<int> tail_counts = plan.n_tails.empty() ? std::vector<int>{0} : plan.n_tails;
+  for (int n : tail_counts)
     for (double rpm : plan.omega_rpm) {
       SteadyStateRow row;
       row.omega_T = units::rpmToRadPerSec(rpm);
-      row.overrides = {{"robot.n_tails", std::to_string(n)}};
-      row.id = "n" + std::to_string(n) + "_" + std::to_string(static_cast<int>(rpm)) + "rpm";
+      row.id = std::to_string(static_cast<int>(rpm)) + "rpm";
+      if (n > 0) {
+        row.overrides = {{"robot.n_tails", std::to_string(n)}};
+        row.id = "n" + std::to_string(n) + "_" + row.id;
+      }
       for (const auto& [name, sigma] : table.noise) row.measured[name] = 0.0;
       table.rows.push_back(row);
     }

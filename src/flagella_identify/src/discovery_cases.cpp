@@ -33,7 +33,7 @@ double logUniform(std::mt19937_64& rng, double low, double high) {
   return std::exp(std::uniform_real_distribution<double>(std::log(low), std::log(high))(rng));
 }
 
-TablePlan tablePlan() {
+TablePlan tailedRobotTablePlan() {
   TablePlan p;
   p.omega_rpm = {40, 70, 100, 130, 160, 200, 250};
   p.n_tails = {2, 3};
@@ -43,6 +43,26 @@ TablePlan tablePlan() {
   p.v_noise = 3e-6;      // 0.003 mm/s: video tracking over the window
   p.omega_noise = 0.05;  // 0.48 rpm: counted turns over a minute-long trial
   return p;
+}
+
+/// A single-flagellum swimmer (config/identification/helical_shore32_coarse.yaml): one robot,
+/// 12 motor rates below its buckling threshold (over 100 rpm; above it the flagellum whirls and
+/// a steady speed is no longer a property of the robot). Steady within 5 s; the window spans two
+/// or more turns of the head (its speed wobbles once per turn: 4.6 s at 20 rpm).
+TablePlan singleFlagellumTablePlan() {
+  TablePlan p;
+  p.omega_rpm = {20, 25, 30, 35, 40, 45, 50, 55, 60, 70, 80, 90};
+  p.n_tails = {};  // the baseline's robot
+  p.settle_time = 5.0;
+  p.window = 10.0;
+  p.session_hours = 4.0;
+  p.v_noise = 3e-6;      // 0.003 mm/s: video tracking over the window
+  p.omega_noise = 0.05;  // 0.48 rpm: counted head turns
+  return p;
+}
+
+TablePlan tablePlanFor(const YAML::Node& baseline) {
+  return tailCountOf(baseline) >= 2 ? tailedRobotTablePlan() : singleFlagellumTablePlan();
 }
 
 SeriesPlan seriesPlan() {
@@ -62,6 +82,13 @@ const std::vector<std::string>& caseFreeParameters() {
   static const std::vector<std::string> free = {"medium.viscosity", "effects.stokes_head.C_t",
                                                 "effects.stokes_head.C_r"};
   return free;
+}
+
+std::vector<std::string> caseFreeParameters(const YAML::Node& baseline) {
+  if (tailCountOf(baseline) >= 2) return caseFreeParameters();
+  // docs/model.md 7.6: a nearly rigid flagellum swims at a given motor rate with speeds that
+  // do not depend on the viscosity (Stokes flow), so only the head's drag factors are fitted
+  return {"effects.stokes_head.C_t", "effects.stokes_head.C_r"};
 }
 
 static std::vector<DiscoveryCase> makeDiscoveryCases() {
@@ -104,14 +131,30 @@ const DiscoveryCase& discoveryCaseByName(const std::string& name) {
   throw std::invalid_argument("unknown discovery case '" + name + "'");
 }
 
+std::string caseNotApplicableReason(const DiscoveryCase& c, const YAML::Node& baseline) {
+  for (const std::string& effect : c.hidden) {
+    const std::string reason = notApplicableReason(candidateByName(effect), baseline);
+    if (!reason.empty()) return effect + " " + reason;
+  }
+  if (tailCountOf(baseline) >= 2) return "";
+  if (!c.table || c.tails > 0 || !c.sparse_rpm.empty())
+    return "its plan (a time series, tail counts or sparse rates of 40-260 rpm) is made for the "
+           "tailed robots; a single-flagellum robot has only the table plan at 20-90 rpm";
+  return "";
+}
+
 GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
                            const std::string& baseline_source, std::uint64_t seed,
                            const EvaluatorOptions& options) {
+  const std::string not_applicable = caseNotApplicableReason(c, baseline);
+  if (!not_applicable.empty())
+    throw std::invalid_argument("discovery case '" + c.name + "' does not apply to " +
+                                baseline_source + ": " + not_applicable);
   std::mt19937_64 rng(seed * 7919 + 17);
   GeneratedCase out;
   YAML::Node robot = YAML::Clone(baseline);
   if (c.tails > 0) robot["robot"]["n_tails"] = c.tails;
-  Model truth(robot, baseline_source, caseFreeParameters());
+  Model truth(robot, baseline_source, caseFreeParameters(baseline));
   std::vector<double> values = truth.values();
   for (size_t i = 0; i < values.size(); ++i) {
     values[i] *= logUniform(rng, 0.8, 1.25);
@@ -138,7 +181,7 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
   truth.setValues(values);
   out.truth_config = truth.extendedConfig();
   if (c.table) {
-    TablePlan plan = tablePlan();
+    TablePlan plan = tablePlanFor(baseline);
     if (!c.sparse_rpm.empty()) {
       plan.omega_rpm = c.sparse_rpm;
       plan.n_tails = {2};

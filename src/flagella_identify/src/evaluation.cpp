@@ -311,6 +311,7 @@ void Evaluator::runTableJob(const Model& model, const std::vector<double>& value
     p.data = measured;
     p.model = predicted;
     p.sigma = row.sigmaOf(name, table.noise);
+    p.buckled = has_steady && m.buckled;
     out.points.push_back(p);
   }
 }

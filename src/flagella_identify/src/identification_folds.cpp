@@ -50,7 +50,7 @@ void Identification::planCrossValidation(const ModelOutcome& baseline, IdentifyR
   // realistic strength (else its first start), beside the calibrated baseline.
   const unsigned observables = observablesOf(data_);
   for (const Candidate* c : candidatesNamed(options_.candidates)) {
-    if (!notIdentifiableReason(*c, observables).empty()) continue;
+    if (!skipReason(*c, observables).empty()) continue;
     std::vector<double> strength = weakestTypicalStrength(*c);
     if (strength.empty() && !c->starts.empty()) strength = c->starts.front();
     if (strength.empty()) continue;

@@ -251,7 +251,9 @@ std::vector<SuggestedMeasurement> separatingMeasurements(const LabelledModel& re
     s.candidate_value = cand.points[i].model;
     s.sigma = b.sigma;
     s.separation = std::abs(s.candidate_value - s.reference_value) / s.sigma;
-    if (s.separation >= kDecisiveSeparation) all.push_back(s);
+    // a rate where either model's flagellum buckles has no steady speed to measure
+    const bool steady = !b.buckled && !cand.points[i].buckled;
+    if (steady && s.separation >= kDecisiveSeparation) all.push_back(s);
   }
   std::stable_sort(all.begin(), all.end(),
                    [](const auto& a, const auto& b) { return a.separation > b.separation; });

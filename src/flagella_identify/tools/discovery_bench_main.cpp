@@ -45,7 +45,9 @@ struct BenchArgs {
 
 /// Declares the command-line options, bound to `a`.
 void addOptions(CLI::App& app, BenchArgs& a) {
-  app.add_option("--cases", a.cases, "cases (default: all)")->delimiter(',');
+  app.add_option("--cases", a.cases,
+                 "cases (default: every case that applies to the robot of --config)")
+      ->delimiter(',');
   app.add_option("--first-seed", a.first_seed)->capture_default_str();
   app.add_option("--seeds", a.seeds, "seeds per case")->capture_default_str();
   app.add_option("--jobs", a.jobs)->capture_default_str();
@@ -74,7 +76,7 @@ void runSeed(const BenchArgs& a, const DiscoveryCase& c, const std::string& name
   eo.jobs = a.jobs;
   GeneratedCase g = generateCase(c, baseline, a.config, seed, eo);
   IdentifyOptions o;
-  o.free = caseFreeParameters();
+  o.free = caseFreeParameters(baseline);
   o.candidates = a.candidates;
   o.evaluator.jobs = a.jobs;
   o.cross_validation = o.power_check = o.continuation = !a.before;
@@ -128,10 +130,16 @@ int main(int argc, char** argv) {
   BenchArgs a;
   addOptions(app, a);
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
-  if (a.cases.empty())
-    for (const DiscoveryCase& c : discoveryCases()) a.cases.push_back(c.name);
   return flagella::cli::runGuarded([&] {
     const YAML::Node baseline = loadConfigTree(a.config, {});
+    if (a.cases.empty())  // every case that applies to this robot
+      for (const DiscoveryCase& c : discoveryCases()) {
+        const std::string reason = caseNotApplicableReason(c, baseline);
+        if (reason.empty())
+          a.cases.push_back(c.name);
+        else
+          std::printf("case %s left out: %s\n", c.name.c_str(), reason.c_str());
+      }
     std::map<std::string, Tally> tally;
     for (const std::string& name : a.cases) {
       const DiscoveryCase& c = discoveryCaseByName(name);

@@ -11,6 +11,7 @@
 
 #include "flagella_identify/bag_reader.h"
 #include "flagella_identify/calibration.h"
+#include "flagella_identify/discovery_cases.h"
 #include "flagella_identify/identify.h"
 #include "flagella_identify/model.h"
 #include "flagella_identify/report.h"
@@ -23,13 +24,11 @@ using namespace flagella::identify;
 
 namespace {
 
-const std::vector<std::string> kDefaultFree = {"medium.viscosity", "effects.stokes_head.C_t",
-                                               "effects.stokes_head.C_r"};
-
-/// The default free parameters that the config actually has.
+/// The default free parameters that the config actually has (the discovery cases' own,
+/// docs/model.md 7.6: the head's C_t and C_r only on a single-flagellum robot).
 std::vector<std::string> defaultFree(const YAML::Node& config) {
   std::vector<std::string> free;
-  for (const std::string& name : kDefaultFree)
+  for (const std::string& name : caseFreeParameters(config))
     if (configField(config, name).IsScalar()) free.push_back(name);
   return free;
 }
@@ -86,7 +85,8 @@ void addOptions(CLI::App& app, IdentifyArgs& a) {
       ->required();
   app.add_option("--free", a.free,
                  "baseline config fields to fit (default: medium.viscosity, "
-                 "effects.stokes_head.C_t, effects.stokes_head.C_r where present)")
+                 "effects.stokes_head.C_t, effects.stokes_head.C_r where present; on a "
+                 "single-flagellum robot C_t and C_r only)")
       ->delimiter(',');
   app.add_option("--candidates", a.candidates, "candidate effects to consider (default: all)")
       ->delimiter(',');

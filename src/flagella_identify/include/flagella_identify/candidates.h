@@ -43,6 +43,9 @@ struct Candidate {
   /// `variables`); fabrication asymmetry draws its own (one tail shorter, or one stiffer).
   std::vector<TypicalStrength> typical;
   bool steady_table_data = true;  ///< its hidden-effect case is a table (else a time series)
+  /// Why the effect cannot act on the robot of this baseline config ("": it can), e.g. a
+  /// granular yield on a swimmer in a liquid; unset: it acts on every robot.
+  std::function<std::string(const YAML::Node& baseline)> not_applicable;
 };
 
 /// The standard candidate list: the registry's effects with DiscoveryHints, in the registry's
@@ -54,6 +57,13 @@ std::vector<const Candidate*> candidatesNamed(const std::vector<std::string>& na
 
 /// Why a candidate cannot be identified from data with these observables ("" if it can).
 std::string notIdentifiableReason(const Candidate& c, unsigned observables);
+/// The robot's tail count as its type's parser reads it (defaults included): 1 for a
+/// single-flagellum robot.
+int tailCountOf(const YAML::Node& config);
+
+/// Why a candidate cannot act on the robot of this baseline config ("" if it can): it is then
+/// neither fitted, nor power-checked, nor suggested.
+std::string notApplicableReason(const Candidate& c, const YAML::Node& baseline);
 
 }  // namespace identify
 }  // namespace flagella

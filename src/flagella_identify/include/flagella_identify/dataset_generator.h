@@ -17,7 +17,7 @@ namespace identify {
 
 struct TablePlan {
   std::vector<double> omega_rpm;  ///< signed motor speeds, each run for every tail count
-  std::vector<int> n_tails;       ///< tail counts (robot.n_tails overrides)
+  std::vector<int> n_tails;       ///< tail counts (robot.n_tails overrides; none: the baseline's)
   double settle_time = 10.0;      ///< [s]
   double window = 30.0;           ///< [s]
   double session_hours = 4.0;     ///< experiments in random order over this many hours

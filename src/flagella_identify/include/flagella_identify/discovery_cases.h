@@ -1,8 +1,10 @@
 // The hidden-effect cases the tests and the detection benchmark draw: which effect is hidden
 // (one, two, none, or one outside the candidate list), in what kind of data, at a strength
 // drawn with a seed from a realistic range for the design-1 granular robot
-// (config/identification/granular_design1_coarse.yaml). The truth's baseline parameters are
-// also drawn (viscosity, C_t, C_r within x0.8-1.25), so every case needs a calibration.
+// (config/identification/granular_design1_coarse.yaml); the table cases also run on a
+// single-flagellum swimmer (config/identification/helical_shore32_coarse.yaml). The truth's
+// baseline parameters are also drawn (viscosity, C_t, C_r within x0.8-1.25), so every case needs a
+// calibration.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -48,13 +50,23 @@ struct GeneratedCase {
   std::string description;
 };
 
-/// Draws the truth and the noise with `seed` and generates the data set.
+/// Why case `c` cannot be generated for the robot of this baseline config ("" if it can): a
+/// hidden effect that cannot act on it (notApplicableReason), or a plan made for the tailed
+/// robots (time series, tail counts, sparse rates) on a single-flagellum one.
+std::string caseNotApplicableReason(const DiscoveryCase& c, const YAML::Node& baseline);
+
+/// Draws the truth and the noise with `seed` and generates the data set (std::invalid_argument
+/// if the case does not apply to the baseline's robot). Tables: on a robot with tails, 7 rates
+/// (40-250 rpm) on 2 and 3 tails; on a single-flagellum robot, 12 rates (20-90 rpm).
 GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
                            const std::string& baseline_source, std::uint64_t seed,
                            const EvaluatorOptions& options = {});
 
 /// The baseline parameters the cases perturb and the tool fits.
 const std::vector<std::string>& caseFreeParameters();
+/// The same for the robot of this baseline config: on a single-flagellum robot the head's C_t
+/// and C_r only (the viscosity does not change a rate-driven rigid swimmer's speeds).
+std::vector<std::string> caseFreeParameters(const YAML::Node& baseline);
 
 }  // namespace identify
 }  // namespace flagella

@@ -131,6 +131,9 @@ class Identification {
   Model modelOf(const ModelOutcome& outcome) const;
 
  private:
+  /// Why candidate `c` is not tried ("" if it is): it cannot act on the baseline robot, or the
+  /// data lack what would show it (the note says which).
+  std::string skipReason(const Candidate& c, unsigned observables) const;
   ModelOutcome fitModelOutcome(const std::vector<const Candidate*>& effects,
                                const ModelOutcome& reference);
   /// The fit on the training data (every row with cross validation), not yet judged. With time

@@ -20,6 +20,9 @@ struct ResidualPoint {
   double session_time = 0.0;  ///< time in the session [s] (NaN if unknown)
   double run_time = 0.0;      ///< time in the run [s] (series), 0 for tables
   double data = 0.0, model = 0.0, sigma = 1.0;
+  /// A table row whose model run buckled (SummaryMetrics::buckled): its speeds are those of a
+  /// whirling flagellum, not a steady state (no measurement is suggested there).
+  bool buckled = false;
   double z() const { return (model - data) / sigma; }
 };
 

@@ -42,6 +42,8 @@ const EffectDescriptor& granularJammingEffect() {
     }
     h.typical = {{"release_force", 1.5e-3, 3e-3, false}, {"stiffness", 0.8, 3.0, false}};
     h.steady_table_data = false;
+    h.requires_effect = "rft";  // docs/model.md 2: the granular medium is RFT
+    h.requires_what = "the granular medium's resistive force theory";
     e.discovery = h;
     return e;
   }();

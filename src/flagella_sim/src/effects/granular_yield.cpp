@@ -37,6 +37,8 @@ const EffectDescriptor& granularYieldEffect() {
     h.variables = {{"yield_force", "yield_force", false, "N", 1e-7, 1.0, true, 1e-7}};
     h.starts = {{1e-5}, {1e-4}, {1e-3}};
     h.typical = {{"yield_force", 3e-4, 9e-4, false}};
+    h.requires_effect = "rft";  // docs/model.md 2: the granular medium is RFT
+    h.requires_what = "the granular medium's resistive force theory";
     e.discovery = h;
     return e;
   }();

@@ -101,6 +101,12 @@ struct DiscoveryHints {
   std::vector<TypicalStrength> typical;
   bool steady_table_data =
       true;  ///< its hidden-effect case is a steady-state table (else a series)
+  /// An effect the robot's config must have for this one to act ("": none), and what that
+  /// effect stands for: granular yield and jamming act only in a granular medium, which this
+  /// project models by resistive force theory ("rft"); a swimmer in a liquid modelled by
+  /// Stokeslets has none, and discovery does not try them there.
+  std::string requires_effect;
+  std::string requires_what;
 };
 
 struct EffectDescriptor {
