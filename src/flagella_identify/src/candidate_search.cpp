@@ -22,6 +22,7 @@ void Identification::fitCandidates(IdentifyResult& result) {
       ModelOutcome skipped;
       skipped.label = c->name;
       skipped.effects = {c->name};
+      skipped.skipped = true;
       skipped.note = reason;
       result.candidates.push_back(skipped);
       say("candidate " + c->name + ": skipped (" + reason + ")");
@@ -44,7 +45,7 @@ void Identification::fitCandidates(IdentifyResult& result) {
   say("the baseline ended off its map and no candidate fitted from it leaves a residual within "
       "the noise: each candidate again by continuation");
   for (ModelOutcome& m : result.candidates) {
-    if (!skipReason(candidateByName(m.label), observables).empty()) continue;
+    if (m.skipped) continue;
     std::vector<const Candidate*> effects;
     for (const std::string& name : m.effects) effects.push_back(&candidateByName(name));
     say("candidate " + m.label + " by continuation");

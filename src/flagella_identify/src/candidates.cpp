@@ -101,9 +101,9 @@ Candidate fabricationAsymmetryCandidate() {
   };
   c.steady_table_data = false;
   c.not_applicable = [](const YAML::Node& baseline) -> std::string {
-    const int n = tailCountOf(baseline);
-    if (n >= 2) return "";
-    return "makes tail 1 differ from the others, and this robot has " + std::to_string(n) + " tail";
+    if (!isSingleFlagellum(baseline)) return "";
+    return "makes tail 1 differ from the others, and this robot has " +
+           std::to_string(tailCountOf(baseline)) + " tail";
   };
   return c;
 }
@@ -157,6 +157,8 @@ int tailCountOf(const YAML::Node& config) {
   RobotHeadSize head;
   return parseRobotSection(robot, head)->tailCount();
 }
+
+bool isSingleFlagellum(const YAML::Node& config) { return tailCountOf(config) < 2; }
 
 unsigned observablesOf(const MeasuredData& data) {
   unsigned o = 0;

@@ -62,7 +62,7 @@ TablePlan singleFlagellumTablePlan() {
 }
 
 TablePlan tablePlanFor(const YAML::Node& baseline) {
-  return tailCountOf(baseline) >= 2 ? tailedRobotTablePlan() : singleFlagellumTablePlan();
+  return isSingleFlagellum(baseline) ? singleFlagellumTablePlan() : tailedRobotTablePlan();
 }
 
 SeriesPlan seriesPlan() {
@@ -85,7 +85,7 @@ const std::vector<std::string>& caseFreeParameters() {
 }
 
 std::vector<std::string> caseFreeParameters(const YAML::Node& baseline) {
-  if (tailCountOf(baseline) >= 2) return caseFreeParameters();
+  if (!isSingleFlagellum(baseline)) return caseFreeParameters();
   // docs/model.md 7.6: a nearly rigid flagellum swims at a given motor rate with speeds that
   // do not depend on the viscosity (Stokes flow), so only the head's drag factors are fitted
   return {"effects.stokes_head.C_t", "effects.stokes_head.C_r"};
@@ -136,7 +136,7 @@ std::string caseNotApplicableReason(const DiscoveryCase& c, const YAML::Node& ba
     const std::string reason = notApplicableReason(candidateByName(effect), baseline);
     if (!reason.empty()) return effect + " " + reason;
   }
-  if (tailCountOf(baseline) >= 2) return "";
+  if (!isSingleFlagellum(baseline)) return "";
   if (!c.table || c.tails > 0 || !c.sparse_rpm.empty())
     return "its plan (a time series, tail counts or sparse rates of 40-260 rpm) is made for the "
            "tailed robots; a single-flagellum robot has only the table plan at 20-90 rpm";

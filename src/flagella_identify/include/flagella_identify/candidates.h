@@ -60,6 +60,9 @@ std::string notIdentifiableReason(const Candidate& c, unsigned observables);
 /// The robot's tail count as its type's parser reads it (defaults included): 1 for a
 /// single-flagellum robot.
 int tailCountOf(const YAML::Node& config);
+/// Whether the robot swims on one flagellum (fewer than two tails): no tail can differ from
+/// the others, and the discovery cases use the single-flagellum plan (discovery_cases.h).
+bool isSingleFlagellum(const YAML::Node& config);
 
 /// Why a candidate cannot act on the robot of this baseline config ("" if it can): it is then
 /// neither fitted, nor power-checked, nor suggested.

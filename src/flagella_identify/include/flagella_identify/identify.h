@@ -48,6 +48,9 @@ struct ModelOutcome {
   std::string label;                 ///< "baseline", "granular_yield", "dc_motor + com_offset"
   std::vector<std::string> effects;  ///< candidate names in the model
   bool fitted = false;
+  /// Never fitted because the candidate cannot act on this robot or be seen in these data
+  /// (Identification::skipReason, given in `note`).
+  bool skipped = false;
   std::string note;  ///< why it was not fitted, or how the fit ended
   /// Parameters that ended off their map (fit.h offTheMap), after the continuation fit if
   /// one was tried; reported, never silently accepted.
