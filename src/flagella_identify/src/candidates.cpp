@@ -65,6 +65,10 @@ Candidate effectCandidate(const EffectDescriptor& d) {
     t.variable = d.name + "." + t.variable;
     c.typical.push_back(t);
   }
+  for (TypicalStrength t : h.typical_single_flagellum) {
+    t.variable = d.name + "." + t.variable;
+    c.typical_single_flagellum.push_back(t);
+  }
   c.steady_table_data = h.steady_table_data;
   if (!h.requires_effect.empty())
     c.not_applicable = [&d](const YAML::Node& baseline) -> std::string {
@@ -217,6 +221,13 @@ std::string notIdentifiableReason(const Candidate& c, unsigned observables) {
     if ((c.needs & bit) && !(observables & bit))
       missing += std::string(missing.empty() ? "" : "; ") + observableName(bit);
   return missing.empty() ? "" : "needs " + missing;
+}
+
+const std::vector<TypicalStrength>& typicalStrengths(const Candidate& c,
+                                                     const YAML::Node& baseline) {
+  if (!c.typical_single_flagellum.empty() && isSingleFlagellum(baseline))
+    return c.typical_single_flagellum;
+  return c.typical;
 }
 
 std::string notApplicableReason(const Candidate& c, const YAML::Node& baseline) {

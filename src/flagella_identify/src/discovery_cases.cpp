@@ -12,10 +12,11 @@ namespace identify {
 
 namespace {
 
-/// Realistic strength ranges for the design-1 robot (README "Model discovery"): low end
+/// Realistic strength ranges for the baseline's robot (README "Model discovery"): low end
 /// clearly above the noise of the plans below, high end still a plausible robot. An effect's
-/// come from its descriptor (DiscoveryHints::typical).
-std::vector<TypicalStrength> rangesOf(const Candidate& c, std::mt19937_64& rng) {
+/// come from its descriptor (DiscoveryHints::typical, typical_single_flagellum).
+std::vector<TypicalStrength> rangesOf(const Candidate& c, const YAML::Node& baseline,
+                                      std::mt19937_64& rng) {
   if (c.name == "fabrication_asymmetry") {
     // one tail shorter, or one tail stiffer
     if (std::uniform_int_distribution<int>(0, 1)(rng) == 0)
@@ -24,9 +25,10 @@ std::vector<TypicalStrength> rangesOf(const Candidate& c, std::mt19937_64& rng) 
     return {{"fabrication_asymmetry.length_ratio", 1.0, 1.0, false},
             {"fabrication_asymmetry.stiffness_ratio", 1.8, 3.0, false}};
   }
-  if (c.typical.empty())
+  const std::vector<TypicalStrength>& typical = typicalStrengths(c, baseline);
+  if (typical.empty())
     throw std::invalid_argument("no typical strength for effect '" + c.name + "'");
-  return c.typical;
+  return typical;
 }
 
 double logUniform(std::mt19937_64& rng, double low, double high) {
@@ -65,7 +67,7 @@ TablePlan tablePlanFor(const YAML::Node& baseline) {
   return isSingleFlagellum(baseline) ? singleFlagellumTablePlan() : tailedRobotTablePlan();
 }
 
-SeriesPlan seriesPlan() {
+SeriesPlan tailedRobotSeriesPlan() {
   SeriesPlan p;
   p.command_rpm = {{0.0, 120.0}, {30.0, 240.0}, {60.0, -180.0}};
   p.duration = 90.0;
@@ -74,6 +76,20 @@ SeriesPlan seriesPlan() {
   p.orientation_noise = 0.01;
   p.turns_noise = 0.1;
   return p;
+}
+
+/// A single-flagellum swimmer's 3-D head track: two motor rates below its buckling threshold
+/// (docs/model.md 7.6), 20 s each, so that a drift that grows with the rate differs from one
+/// that grows with time; same video, IMU and counting noise as the tailed robots' series.
+SeriesPlan singleFlagellumSeriesPlan() {
+  SeriesPlan p = tailedRobotSeriesPlan();
+  p.command_rpm = {{0.0, 40.0}, {20.0, 80.0}};
+  p.duration = 40.0;
+  return p;
+}
+
+SeriesPlan seriesPlanFor(const YAML::Node& baseline) {
+  return isSingleFlagellum(baseline) ? singleFlagellumSeriesPlan() : tailedRobotSeriesPlan();
 }
 
 }  // namespace
@@ -137,9 +153,9 @@ std::string caseNotApplicableReason(const DiscoveryCase& c, const YAML::Node& ba
     if (!reason.empty()) return effect + " " + reason;
   }
   if (!isSingleFlagellum(baseline)) return "";
-  if (!c.table || c.tails > 0 || !c.sparse_rpm.empty())
-    return "its plan (a time series, tail counts or sparse rates of 40-260 rpm) is made for the "
-           "tailed robots; a single-flagellum robot has only the table plan at 20-90 rpm";
+  if (c.tails > 0 || !c.sparse_rpm.empty())
+    return "its plan (tail counts, or sparse rates of 40-260 rpm) is made for the tailed robots; "
+           "a single-flagellum robot has the table at 20-90 rpm and the track at 40 and 80 rpm";
   return "";
 }
 
@@ -167,7 +183,7 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
     truth.addCandidate(candidate);
     const std::vector<double> defaults = truth.values();  // new variables start at defaults
     values.insert(values.end(), defaults.begin() + values.size(), defaults.end());
-    for (const TypicalStrength& r : rangesOf(candidate, rng)) {
+    for (const TypicalStrength& r : rangesOf(candidate, baseline, rng)) {
       double v = (r.low == r.high ? r.low : logUniform(rng, r.low, r.high)) * c.strength_scale;
       if (r.random_sign && std::uniform_int_distribution<int>(0, 1)(rng) == 1) v = -v;
       // by name: the ranges need not list an effect's variables in the candidate's order
@@ -189,7 +205,7 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
     out.data.tables.push_back(generateTable(truth, plan, seed, options));
     out.data.tables.back().source = "<" + c.name + " seed " + std::to_string(seed) + ">";
   } else {
-    SeriesPlan plan = seriesPlan();
+    SeriesPlan plan = seriesPlanFor(baseline);
     if (c.unknown) {
       plan.ripple_fraction = std::uniform_real_distribution<double>(0.2, 0.35)(rng);
       plan.ripple_period = std::uniform_real_distribution<double>(8.0, 16.0)(rng);

@@ -51,7 +51,7 @@ void Identification::planCrossValidation(const ModelOutcome& baseline, IdentifyR
   const unsigned observables = observablesOf(data_);
   for (const Candidate* c : candidatesNamed(options_.candidates)) {
     if (!skipReason(*c, observables).empty()) continue;
-    std::vector<double> strength = weakestTypicalStrength(*c);
+    std::vector<double> strength = weakestTypicalStrength(*c, baseline_);
     if (strength.empty() && !c->starts.empty()) strength = c->starts.front();
     if (strength.empty()) continue;
     Model with(model);

@@ -162,12 +162,12 @@ std::string configurationText(const SuggestedMeasurement& s) {
   return text;
 }
 
-std::vector<double> weakestTypicalStrength(const Candidate& c) {
+std::vector<double> weakestTypicalStrength(const Candidate& c, const YAML::Node& baseline) {
   std::vector<double> strength;
   bool any = false;
   for (size_t i = 0; i < c.variables.size(); ++i) {
     double value = c.off.size() > i ? c.off[i] : c.variables[i].value;
-    for (const TypicalStrength& t : c.typical)
+    for (const TypicalStrength& t : typicalStrengths(c, baseline))
       if (t.variable == c.variables[i].name) {
         value = t.low;
         any = true;
@@ -182,7 +182,7 @@ PowerCheck checkPower(const Model& baseline, const std::vector<double>& baseline
                       const Evaluator& all_rows, const FitOptions& fit) {
   PowerCheck out;
   out.candidate = candidate.name;
-  out.strength = weakestTypicalStrength(candidate);
+  out.strength = weakestTypicalStrength(candidate, baseline.extendedConfig());
   if (out.strength.empty()) {
     out.note = "no realistic strength is known for it";
     return out;

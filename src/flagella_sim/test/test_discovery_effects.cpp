@@ -1,8 +1,10 @@
 // The model-extension effects used by the identification tool, against closed forms that do not
 // come from the code under test: a towed head with a granular yield force (Coulomb + Stokes
 // velocity), stick-slip jamming (sawtooth period of ds/dt = (F - k_j s)/c), the COM-offset
-// gravity couple (docs/model.md 5 balance law), the viscosity drift factor, and a DC motor's
-// torque-speed curve on the design-1 robot (torque balance on the rigid head, docs/model.md 3.1).
+// gravity couple (docs/model.md 5 balance law), the viscosity drift factor, a DC motor's
+// torque-speed curve on the design-1 robot (torque balance on the rigid head, docs/model.md 3.1),
+// and the extra weight of a denser flagellum (its volume from the helix's closed-form arc length;
+// Stokes linearity of the sinking robot, docs/model.md 5.1).
 // Every effect with its default parameters leaves a run unchanged.
 #include <gtest/gtest.h>
 
@@ -21,6 +23,7 @@
 #include "flagella_sim/effects/granular_jamming.h"
 #include "flagella_sim/effects/granular_yield.h"
 #include "flagella_sim/effects/stokes_head_drag.h"
+#include "flagella_sim/effects/tail_weight.h"
 #include "flagella_sim/effects/viscosity_drift.h"
 #include "flagella_sim/rod/network_builder.h"
 #include "flagella_sim/rod/rod_kinematics.h"
@@ -304,6 +307,76 @@ TEST(ComOffset, HeadMassDefaultsToTheDisplacedMediumAndIsANamedParameter) {
   const std::string msg = testing::errorMessageOf<ConfigError>(
       [&] { loadSimulationConfig(design1, {"effects.com_offset.offset=0.5"}); });
   EXPECT_NE(msg.find("effects.com_offset.offset"), std::string::npos) << msg;
+}
+
+// ---- tail_weight
+// ---------------------------------------------------------------------------------
+
+TEST(TailWeight, TotalForceIsTheExtraDensityTimesTheFlagellumsVolumeTimesG) {
+  // config/helical_robot.yaml: R_t 18 mm, lambda 36 mm, 3.5 pitches, r0 3.08 mm, 5 mm edges
+  const std::string helical = std::string(FLAGELLA_CONFIG_DIR) + "/helical_robot.yaml";
+  Simulation sim(loadSimulationConfig(helical, {}));
+  const RodNetwork& net = sim.network();
+  constexpr double kHelixRadius = 0.018, kPitch = 0.036, kPitchCount = 3.5, kRadius = 3.08e-3;
+  ASSERT_EQ(net.parts.tail_edges.size(), 1u);
+  const int hook = net.parts.tail_edges[0].front();
+  // the helix's arc length (closed form) plus the hook edge; the edges are chords of the helix,
+  // 0.3 % shorter than its arcs at 5 mm
+  const double length =
+      kPitchCount * std::hypot(2.0 * M_PI * kHelixRadius, kPitch) + net.rest_lengths[hook];
+  const double volume = M_PI * kRadius * kRadius * length;
+  Medium medium;
+  medium.gravity = Vec3(0.3, -9.8, 0.2);
+  const VecX q = sim.state().q;
+  for (double drho : {25.0, -8.0}) {
+    TailWeight e;
+    e.parameters().set("extra_density", drho);
+    e.attach(net);
+    VecX F = VecX::Zero(net.ndof());
+    e.addForce({net, q, sim.state().frames, q, VecX::Zero(net.ndof()), 0.01, 0.0, medium,
+                medium.viscosity()},
+               F, nullptr);
+    Vec3 sum = Vec3::Zero();
+    for (int i = 0; i < net.numNodes(); ++i) sum += F.segment<3>(3 * i);
+    for (const int i : net.parts.head_nodes)
+      if (i != net.parts.tail_nodes[0].front()) {
+        EXPECT_EQ(F.segment<3>(3 * i).norm(), 0.0) << "head node " << i;
+      }
+    EXPECT_EQ(F.tail(net.numEdges()).norm(), 0.0);  // no moments on the twist DOFs
+    const Vec3 expected = drho * volume * medium.gravity;
+    std::printf("[tail_weight] drho = %+.0f kg/m^3: |sum F| = %.4e N, closed form %.4e N\n", drho,
+                sum.norm(), expected.norm());
+    EXPECT_LT((sum - expected).norm(), 0.01 * expected.norm());
+    EXPECT_GT(sum.dot(drho * medium.gravity), 0.0);  // denser: along gravity; lighter: against
+  }
+}
+
+TEST(TailWeight, SinkingIsLinearInTheExtraDensityAndNoneWithoutIt) {
+  // The coarse helical robot, motor off, neutrally buoyant as configured: only the extra weight
+  // moves it, and in Stokes flow the motion is linear in it (small displacements over 2 s), so
+  // +drho and -drho move the head by opposite vectors and drho = 0 leaves it at rest. A tight
+  // Newton tolerance: from rest, the weight of 1 kg/m^3 (1.3e-4 N) is below the config's.
+  const std::string coarse =
+      std::string(FLAGELLA_CONFIG_DIR) + "/identification/helical_shore32_coarse.yaml";
+  const auto headShift = [&](double drho) {
+    Simulation sim(loadSimulationConfig(
+        coarse, {"motor.omega_rpm=0", "solver.residual_tolerance=1e-9",
+                 "effects.tail_weight.extra_density=" + std::to_string(drho)}));
+    const int head = sim.network().parts.head_center_node;
+    const Vec3 start = sim.state().q.segment<3>(3 * head);
+    for (int k = 0; k < 200; ++k) sim.step();
+    return Vec3(sim.state().q.segment<3>(3 * head) - start);
+  };
+  const Vec3 down = headShift(1.0), up = headShift(-1.0), none = headShift(0.0);
+  const Vec3 gravity = loadSimulationConfig(coarse, {}).medium.gravity;
+  std::printf(
+      "[tail_weight] head shift in 2 s: +1 kg/m^3 (%.3e %.3e %.3e) m, -1 (%.3e %.3e %.3e) "
+      "m, 0: %.1e m\n",
+      down.x(), down.y(), down.z(), up.x(), up.y(), up.z(), none.norm());
+  EXPECT_GT(down.dot(gravity), 0.0);  // the head sinks with its heavier flagellum
+  EXPECT_GT(down.norm(), 1e-5);
+  EXPECT_LT((down + up).norm(), 0.02 * down.norm());
+  EXPECT_LT(none.norm(), 1e-3 * down.norm());
 }
 
 // ---- viscosity_drift ---------------------------------------------------------------------------

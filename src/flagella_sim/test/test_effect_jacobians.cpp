@@ -14,6 +14,7 @@
 #include "flagella_sim/effects/interface_lateral_force.h"
 #include "flagella_sim/effects/rft_drag.h"
 #include "flagella_sim/effects/stokes_head_drag.h"
+#include "flagella_sim/effects/tail_weight.h"
 #include "flagella_sim/rod/rod_kinematics.h"
 #include "support/test_robots.h"
 
@@ -170,6 +171,9 @@ TEST(EffectJacobians, ConstantForcesHaveZeroJacobian) {
   ConstantLoad c;
   c.addNodeForce(1, Vec3(1, 2, 3));
   expectJacobianMatchesFiniteDifferences(c, 8);
+  TailWeight w;
+  w.parameters().set("extra_density", 40.0);
+  expectJacobianMatchesFiniteDifferences(w, 16);
 }
 
 TEST(EffectJacobians, GranularYield) {

@@ -42,6 +42,8 @@ struct Candidate {
   /// Realistic strengths for hidden-effect test data, drawn in this order (names as in
   /// `variables`); fabrication asymmetry draws its own (one tail shorter, or one stiffer).
   std::vector<TypicalStrength> typical;
+  /// The same on a single-flagellum robot, where they differ (empty: `typical`).
+  std::vector<TypicalStrength> typical_single_flagellum;
   bool steady_table_data = true;  ///< its hidden-effect case is a table (else a time series)
   /// Why the effect cannot act on the robot of this baseline config ("": it can), e.g. a
   /// granular yield on a swimmer in a liquid; unset: it acts on every robot.
@@ -63,6 +65,10 @@ int tailCountOf(const YAML::Node& config);
 /// Whether the robot swims on one flagellum (fewer than two tails): no tail can differ from
 /// the others, and the discovery cases use the single-flagellum plan (discovery_cases.h).
 bool isSingleFlagellum(const YAML::Node& config);
+
+/// The realistic strengths of a candidate on the robot of this baseline config.
+const std::vector<TypicalStrength>& typicalStrengths(const Candidate& c,
+                                                     const YAML::Node& baseline);
 
 /// Why a candidate cannot act on the robot of this baseline config ("" if it can): it is then
 /// neither fitted, nor power-checked, nor suggested.

@@ -52,12 +52,14 @@ struct GeneratedCase {
 
 /// Why case `c` cannot be generated for the robot of this baseline config ("" if it can): a
 /// hidden effect that cannot act on it (notApplicableReason), or a plan made for the tailed
-/// robots (time series, tail counts, sparse rates) on a single-flagellum one.
+/// robots (tail counts, sparse rates) on a single-flagellum one.
 std::string caseNotApplicableReason(const DiscoveryCase& c, const YAML::Node& baseline);
 
 /// Draws the truth and the noise with `seed` and generates the data set (std::invalid_argument
 /// if the case does not apply to the baseline's robot). Tables: on a robot with tails, 7 rates
-/// (40-250 rpm) on 2 and 3 tails; on a single-flagellum robot, 12 rates (20-90 rpm).
+/// (40-250 rpm) on 2 and 3 tails; on a single-flagellum robot, 12 rates (20-90 rpm). Time
+/// series: 90 s of 120, 240 and -180 rpm on a robot with tails; on a single-flagellum robot a
+/// 3-D head track of 40 s, 20 s at 40 rpm then 20 s at 80 rpm.
 GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
                            const std::string& baseline_source, std::uint64_t seed,
                            const EvaluatorOptions& options = {});

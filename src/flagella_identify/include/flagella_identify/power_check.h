@@ -52,9 +52,9 @@ constexpr int kSuggestionRates = 12;
 /// At most this many suggestions (distinct rates) per candidate.
 constexpr int kSuggestionsPerCandidate = 3;
 
-/// The weakest realistic strength of a candidate (each TypicalStrength's low end), empty if it
-/// has none.
-std::vector<double> weakestTypicalStrength(const Candidate& c);
+/// The weakest realistic strength of a candidate on the robot of this baseline config (each
+/// TypicalStrength's low end), empty if it has none.
+std::vector<double> weakestTypicalStrength(const Candidate& c, const YAML::Node& baseline);
 
 /// The power check of `candidate` against the calibrated baseline `baseline` (free parameters
 /// at `baseline_values`, whose chi^2 on `all_rows` is `baseline_chi_square`). The threshold is

@@ -99,6 +99,9 @@ struct DiscoveryHints {
   std::string session_time_parameter;
   /// Strengths the hidden-effect test data draw, in this order.
   std::vector<TypicalStrength> typical;
+  /// The same on a single-flagellum swimmer, where they differ (empty: `typical`): its head
+  /// spins slowly, and its whole body pitches under a small gravity couple.
+  std::vector<TypicalStrength> typical_single_flagellum;
   bool steady_table_data =
       true;  ///< its hidden-effect case is a steady-state table (else a series)
   /// An effect the robot's config must have for this one to act ("": none), and what that
