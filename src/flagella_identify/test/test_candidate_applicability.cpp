@@ -15,6 +15,7 @@
 #include "flagella_identify/discovery_cases.h"
 #include "flagella_identify/model.h"
 #include "flagella_sim/core/units.h"
+#include "flagella_sim/outputs/fits.h"
 
 namespace flagella {
 namespace identify {
@@ -106,17 +107,14 @@ TEST(CandidateApplicability, SingleFlagellumTrackSwimsTwiceAsFarAtTwiceTheRate) 
   // wobble once per turn. Within 6 %: the flagellum's tilt grows with the rate (4 % in the table
   // above) and each sample carries 0.2 mm of tracking noise per coordinate.
   const auto meanVelocity = [&](double from, double to) {
-    double n = 0.0, t_sum = 0.0, tt_sum = 0.0;
-    Vec3 p_sum = Vec3::Zero(), tp_sum = Vec3::Zero();
+    std::vector<double> t;
+    std::vector<double> p[3];
     for (size_t k = 0; k < s.t.size(); ++k) {
       if (s.t[k] < from - 1e-9 || s.t[k] > to + 1e-9) continue;
-      n += 1.0;
-      t_sum += s.t[k];
-      tt_sum += s.t[k] * s.t[k];
-      p_sum += s.position[k];
-      tp_sum += s.t[k] * s.position[k];
+      t.push_back(s.t[k]);
+      for (int a = 0; a < 3; ++a) p[a].push_back(s.position[k](a));
     }
-    return Vec3((n * tp_sum - t_sum * p_sum) / (n * tt_sum - t_sum * t_sum));
+    return Vec3(fitLine(t, p[0]).slope, fitLine(t, p[1]).slope, fitLine(t, p[2]).slope);
   };
   EXPECT_EQ(s.omega_cmd.front(), units::rpmToRadPerSec(40.0));
   EXPECT_EQ(s.omega_cmd.back(), units::rpmToRadPerSec(80.0));
