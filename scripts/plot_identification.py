@@ -32,7 +32,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
-OUTPUT_ORDER = ["v", "omega_h", "omega_t", "omega_yr", "R_yr", "x", "y", "z",
+OUTPUT_ORDER = ["v", "omega_h", "omega_t", "omega_yr", "R_yr", "tilt", "x", "y", "z",
                 "axis_x", "axis_y", "axis_z", "head_turns", "tail_turns"]
 RAD_PER_S_TO_RPM = 60.0 / (2.0 * math.pi)
 COLUMNS = ["kind", "source", "row", "output", "omega_T_rpm", "session_time_s", "run_time_s",
@@ -57,6 +57,8 @@ def display_unit(output):
         return "rpm", RAD_PER_S_TO_RPM
     if output == "omega_yr":
         return "rad/s", 1.0
+    if output == "tilt":
+        return "deg", 180.0 / math.pi
     if output in ("R_yr", "x", "y", "z"):
         return "mm", 1e3
     if output.startswith("axis_"):

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "field_candidates.h"
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/effects/effect_registry.h"
 #include "flagella_sim/robots/robot_registry.h"
@@ -12,18 +13,6 @@ namespace flagella {
 namespace identify {
 
 namespace {
-
-FitParameter variable(const std::string& name, const std::string& unit, double lower, double upper,
-                      bool log_scale) {
-  FitParameter p;
-  p.name = name;
-  p.unit = unit;
-  p.lower = lower;
-  p.upper = upper;
-  p.log_scale = log_scale;
-  p.value = log_scale ? std::sqrt(lower * upper) : 0.5 * (lower + upper);
-  return p;
-}
 
 /// Switches an effect on (an empty map if it has no fields yet) and sets its fields.
 void setEffect(YAML::Node& config, const std::string& effect,
@@ -45,7 +34,7 @@ Candidate effectCandidate(const EffectDescriptor& d) {
   c.needs = h.needs;
   for (const FittableParameter& v : h.variables) {
     c.variables.push_back(
-        variable(d.name + "." + v.variable, v.unit, v.lower, v.upper, v.log_scale));
+        fitVariable(d.name + "." + v.variable, v.unit, v.lower, v.upper, v.log_scale));
     c.off.push_back(v.off);
   }
   c.starts = h.starts;
@@ -80,16 +69,16 @@ Candidate effectCandidate(const EffectDescriptor& d) {
   return c;
 }
 
-/// The one candidate that is not an effect: tail 1 shorter or stiffer than the others (robot
-/// fields tail_length_scale, tail_stiffness_scale).
+/// A candidate that is not an effect: tail 1 shorter or stiffer than the others (robot fields
+/// tail_length_scale, tail_stiffness_scale).
 Candidate fabricationAsymmetryCandidate() {
   Candidate c;
   c.name = "fabrication_asymmetry";
   c.title = "fabrication asymmetry (tail 1 shorter or stiffer than the others)";
   c.signature = "asymmetry: a sideways wobble at the tail rotation rate and a curved path";
   c.needs = kTranslation | kTimeResolved;
-  c.variables = {variable("fabrication_asymmetry.length_ratio", "", 0.5, 1.5, true),
-                 variable("fabrication_asymmetry.stiffness_ratio", "", 0.2, 5.0, true)};
+  c.variables = {fitVariable("fabrication_asymmetry.length_ratio", "", 0.5, 1.5, true),
+                 fitVariable("fabrication_asymmetry.stiffness_ratio", "", 0.2, 5.0, true)};
   c.starts = {{0.85, 1.0}, {1.0, 1.6}, {1.0, 0.6}};
   c.off = {1.0, 1.0};  // every tail alike: the baseline robot
   c.writes = {"robot.tail_length_scale", "robot.tail_stiffness_scale"};
@@ -128,6 +117,8 @@ std::vector<Candidate> makeCandidates() {
   for (const EffectDescriptor* d : effectRegistry())
     if (d->discovery) list.push_back(leavingOutWhenOff(effectCandidate(*d)));
   list.push_back(leavingOutWhenOff(fabricationAsymmetryCandidate()));
+  list.push_back(leavingOutWhenOff(hookStiffnessCandidate()));
+  list.push_back(leavingOutWhenOff(headTiltDragCandidate()));
   return list;
 }
 
@@ -145,6 +136,8 @@ const char* observableName(unsigned o) {
       return "a time series";
     case kSessionTime:
       return "experiments spread over the session (time_s or session_time_s)";
+    case kTilt:
+      return "the flagellum's tilt (tilt_deg)";
     default:
       return "?";
   }
@@ -179,6 +172,7 @@ unsigned observablesOf(const MeasuredData& data) {
         if (name == "v") o |= kTranslation;
         if (name == "omega_h" || name == "omega_t") o |= kRotation;
         if (name == "omega_yr" || name == "R_yr") o |= kHeading;
+        if (name == "tilt") o |= kTilt;
       }
       seen(row.time);
     }
@@ -217,7 +211,7 @@ std::vector<const Candidate*> candidatesNamed(const std::vector<std::string>& na
 
 std::string notIdentifiableReason(const Candidate& c, unsigned observables) {
   std::string missing;
-  for (unsigned bit = 1; bit <= kSessionTime; bit <<= 1)
+  for (unsigned bit = 1; bit <= kLastObservable; bit <<= 1)
     if ((c.needs & bit) && !(observables & bit))
       missing += std::string(missing.empty() ? "" : "; ") + observableName(bit);
   return missing.empty() ? "" : "needs " + missing;

@@ -1,6 +1,8 @@
 // Checks of the config overrides carried by measured data (check_overrides.h).
 #include "flagella_identify/check_overrides.h"
 
+#include <cmath>
+
 #include "flagella_identify/candidates.h"
 #include "flagella_identify/data_error.h"
 #include "flagella_sim/core/text_lists.h"
@@ -38,16 +40,32 @@ void rejectFitted(const std::vector<ConfigOverride>& overrides, const FittedName
   }
 }
 
-/// Throws DataError at file:line unless `baseline` with `overrides` applied is a valid config.
-void requireValid(const YAML::Node& baseline, const std::string& baseline_source,
-                  const std::vector<ConfigOverride>& overrides, const std::string& file, int line,
-                  const std::string& what) {
+/// Throws DataError at file:line unless `baseline` with `overrides` applied is a valid config;
+/// returns that config.
+SimulationConfig requireValid(const YAML::Node& baseline, const std::string& baseline_source,
+                              const std::vector<ConfigOverride>& overrides, const std::string& file,
+                              int line, const std::string& what) {
   YAML::Node tree = YAML::Clone(baseline);
   try {
     for (const auto& [name, value] : overrides) applyOverride(tree, name + "=" + value);
-    parseSimulationConfig(tree, baseline_source);
+    return parseSimulationConfig(tree, baseline_source);
   } catch (const ConfigError& e) {
     throw DataError(file, line, 0, what + " refused by the config reader: " + e.what());
+  }
+}
+
+/// Throws DataError at the first row that measures the flagellum's tilt when the table's robot
+/// has no single flagellum whose tilt the model could predict (docs/model.md 8.4.4).
+void requireTiltModelled(const SteadyStateTable& table, const SimulationConfig& config,
+                         const std::string& csv) {
+  if (config.robot->hasFlagellumTilt()) return;
+  for (const SteadyStateRow& row : table.rows) {
+    const auto tilt = row.measured.find("tilt");
+    if (tilt != row.measured.end() && std::isfinite(tilt->second))
+      throw DataError(csv, row.line, 0,
+                      "'tilt_deg' is the tilt of a single helical flagellum against the head "
+                      "axis (docs/model.md 8.4.4), and this robot has no such flagellum: only "
+                      "robot.type helical predicts it");
   }
 }
 
@@ -66,8 +84,10 @@ void checkDataOverrides(const MeasuredData& data, const YAML::Node& baseline,
                         const std::string& baseline_source, const FittedNames& fitted) {
   for (const SteadyStateTable& table : data.tables) {
     rejectFitted(table.overrides, fitted, table.source, 0, "override");
-    requireValid(baseline, baseline_source, table.overrides, table.source, 0, "the overrides");
+    const SimulationConfig config =
+        requireValid(baseline, baseline_source, table.overrides, table.source, 0, "the overrides");
     const std::string& csv = table.csv.empty() ? table.source : table.csv;
+    requireTiltModelled(table, config, csv);
     for (const SteadyStateRow& row : table.rows) {
       if (row.overrides.empty()) continue;
       rejectFitted(row.overrides, fitted, csv, row.line, "override column");

@@ -3,6 +3,7 @@
 
 #include "data_io_internal.h"
 #include "flagella_sim/core/text_lists.h"
+#include "flagella_sim/core/units.h"
 #include "text_format.h"
 
 namespace flagella {
@@ -20,7 +21,8 @@ const std::vector<MeasuredColumn>& measuredColumns() {
       {"omega_t_rpm", "omega_t", kRadPerSecPerRpm, -kMaxRpm, kMaxRpm, "rpm"},
       {"omega_yr_rad_s", "omega_yr", 1.0, -kMaxYawRateRadS, kMaxYawRateRadS, "rad/s"},
       {"R_yr_mm", "R_yr", kMetresPerMm, 0.0, kMaxLengthMm, "mm"},
-      {"buckling_threshold_rpm", "buckling_threshold", kRadPerSecPerRpm, 0.0, kMaxRpm, "rpm"}};
+      {"buckling_threshold_rpm", "buckling_threshold", kRadPerSecPerRpm, 0.0, kMaxRpm, "rpm"},
+      {"tilt_deg", "tilt", units::degToRad(1.0), 0.0, 180.0, "deg"}};
   return columns;
 }
 

@@ -45,6 +45,7 @@ SteadyStateTable generateTable(const Model& truth, const TablePlan& plan, std::u
     table.noise["omega_h"] = plan.omega_noise;
     table.noise["omega_t"] = plan.omega_noise;
   }
+  if (plan.tilt_noise > 0.0) table.noise["tilt"] = plan.tilt_noise;
   // no tail counts: the baseline's robot, no override
   const std::vector<int> tail_counts = plan.n_tails.empty() ? std::vector<int>{0} : plan.n_tails;
   for (int n : tail_counts)

@@ -106,6 +106,7 @@ std::pair<std::string, double> displayUnit(const std::string& output) {
   if (output == "omega_h" || output == "omega_t" || output == "buckling_threshold")
     return {"rpm", units::kRpmPerRadPerSec};
   if (output == "omega_yr") return {"rad/s", 1.0};
+  if (output == "tilt") return {"deg", units::radToDeg(1.0)};
   if (output == "R_yr" || output == "x" || output == "y" || output == "z") return {"mm", 1e3};
   if (output.rfind("axis_", 0) == 0) return {"", 1.0};
   if (output.find("turns") != std::string::npos) return {"turns", 1.0};

@@ -6,6 +6,7 @@
 
 #include "flagella_identify/dataset_generator.h"
 #include "flagella_identify/model.h"
+#include "flagella_sim/core/units.h"
 
 namespace flagella {
 namespace identify {
@@ -60,6 +61,9 @@ TablePlan singleFlagellumTablePlan() {
   p.session_hours = 4.0;
   p.v_noise = 3e-6;      // 0.003 mm/s: video tracking over the window
   p.omega_noise = 0.05;  // 0.48 rpm: counted head turns
+  // the flagellum's axis fitted to its video outline, averaged over the window (docs/model.md
+  // 8.4.4, 7.6)
+  p.tilt_noise = units::degToRad(0.2);
   return p;
 }
 

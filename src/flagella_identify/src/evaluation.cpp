@@ -132,6 +132,8 @@ bool predictedOutput(const SummaryMetrics& m, const std::string& name, double& p
     predicted = m.yaw_rate;
   else if (name == "R_yr")
     predicted = m.circle_valid ? m.circle_radius : kStraightRadius;
+  else if (name == "tilt")
+    predicted = m.flagellum_tilt_mean;  // docs/model.md 8.4.4 (helical robot; checked on input)
   else
     return false;
   return true;

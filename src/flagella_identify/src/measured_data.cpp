@@ -4,8 +4,8 @@ namespace flagella {
 namespace identify {
 
 const std::vector<std::string>& steadyOutputNames() {
-  static const std::vector<std::string> names = {"v",        "omega_h", "omega_t",
-                                                 "omega_yr", "R_yr",    "buckling_threshold"};
+  static const std::vector<std::string> names = {
+      "v", "omega_h", "omega_t", "omega_yr", "R_yr", "buckling_threshold", "tilt"};
   return names;
 }
 

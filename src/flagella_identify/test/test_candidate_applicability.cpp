@@ -51,6 +51,40 @@ TEST(CandidateApplicability, TailAsymmetryNeedsTwoTails) {
   EXPECT_NE(notApplicableReason(c, baseline(kHelical)).find("1 tail"), std::string::npos);
 }
 
+// docs/model.md 8.4.1, 3.1: only a helical flagellum has a hook, and only a head whose pitch and
+// yaw drag the config models can have it scaled.
+TEST(CandidateApplicability, HookAndHeadTiltDragNeedTheHelicalRobot) {
+  for (const std::string name : {"hook_stiffness", "head_tilt_drag"}) {
+    const Candidate& c = candidateByName(name);
+    EXPECT_EQ(notApplicableReason(c, baseline(kHelical)), "") << name;
+    EXPECT_NE(notApplicableReason(c, baseline(kGranular)), "") << name;
+  }
+  EXPECT_NE(candidateByName("hook_stiffness").needs & kTilt, 0u);          // a table with the tilt
+  EXPECT_NE(candidateByName("head_tilt_drag").needs & kTimeResolved, 0u);  // a head track
+  EXPECT_NE(notApplicableReason(candidateByName("hook_stiffness"), baseline(kGranular))
+                .find("robot.type multi_tail"),
+            std::string::npos);
+  EXPECT_NE(notApplicableReason(candidateByName("head_tilt_drag"), baseline(kGranular))
+                .find("effects.stokes_head.tilt_drag"),
+            std::string::npos);
+}
+
+// The fitted ratio multiplies what the baseline has, and the off value 1 leaves it alone.
+TEST(CandidateApplicability, HookAndHeadTiltDragScaleTheBaselinesFields) {
+  YAML::Node cfg = baseline(kHelical);
+  cfg["robot"]["hook_stiffness_scale"] = 3.0;
+  cfg["effects"]["stokes_head"]["tilt_drag"] = 1.5;
+  YAML::Node off = YAML::Clone(cfg);
+  candidateByName("hook_stiffness").apply(off, {1.0}, 0.0);
+  candidateByName("head_tilt_drag").apply(off, {1.0}, 0.0);
+  EXPECT_EQ(off["robot"]["hook_stiffness_scale"].as<double>(), 3.0);
+  EXPECT_EQ(off["effects"]["stokes_head"]["tilt_drag"].as<double>(), 1.5);
+  candidateByName("hook_stiffness").apply(cfg, {0.5}, 0.0);
+  candidateByName("head_tilt_drag").apply(cfg, {2.0}, 0.0);
+  EXPECT_DOUBLE_EQ(cfg["robot"]["hook_stiffness_scale"].as<double>(), 1.5);
+  EXPECT_DOUBLE_EQ(cfg["effects"]["stokes_head"]["tilt_drag"].as<double>(), 3.0);
+}
+
 TEST(CandidateApplicability, MotorAndMediumEffectsApplyToEveryRobot) {
   for (const std::string name : {"dc_motor", "viscosity_drift", "com_offset"})
     for (const char* robot : {kGranular, kHelical})
@@ -60,8 +94,8 @@ TEST(CandidateApplicability, MotorAndMediumEffectsApplyToEveryRobot) {
 
 TEST(CandidateApplicability, EveryCaseButTheSwimmersAppliesToTheGranularRobot) {
   for (const DiscoveryCase& c : discoveryCases())
-    if (c.name == "tail_weight")
-      EXPECT_NE(caseNotApplicableReason(c, baseline(kGranular)), "");
+    if (c.name == "tail_weight" || c.name == "hook_stiffness" || c.name == "head_tilt_drag")
+      EXPECT_NE(caseNotApplicableReason(c, baseline(kGranular)), "") << c.name;
     else
       EXPECT_EQ(caseNotApplicableReason(c, baseline(kGranular)), "") << c.name;
 }
@@ -70,9 +104,10 @@ TEST(CandidateApplicability, TheSingleFlagellumRobotGetsTheCasesOfItsEffects) {
   std::set<std::string> applicable;
   for (const DiscoveryCase& c : discoveryCases())
     if (caseNotApplicableReason(c, baseline(kHelical)).empty()) applicable.insert(c.name);
-  EXPECT_EQ(applicable, (std::set<std::string>{"null_table", "null_series", "dc_motor",
-                                               "viscosity_drift", "interface_lateral_force",
-                                               "com_offset", "tail_weight", "unknown_ripple"}));
+  EXPECT_EQ(applicable,
+            (std::set<std::string>{"null_table", "null_series", "dc_motor", "viscosity_drift",
+                                   "interface_lateral_force", "com_offset", "tail_weight",
+                                   "hook_stiffness", "head_tilt_drag", "unknown_ripple"}));
   EXPECT_THROW(
       generateCase(discoveryCaseByName("strong_lateral_2_tails"), baseline(kHelical), kHelical, 1),
       std::invalid_argument);
@@ -143,6 +178,14 @@ TEST(CandidateApplicability, SingleFlagellumTableIsOneRobotBelowItsThreshold) {
     std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
     return x[x.size() / 2];
   };
+  // The table carries the flagellum's tilt (docs/model.md 8.4.4): below the threshold, under
+  // the tilt that counts as buckled (the config's buckling_tilt_deg, 15 deg).
+  ASSERT_EQ(t.noise.count("tilt"), 1u);
+  EXPECT_NE(observablesOf(g.data) & kTilt, 0u);
+  for (const SteadyStateRow& row : t.rows) {
+    EXPECT_GT(row.measured.at("tilt"), -3.0 * t.noise.at("tilt")) << row.id;
+    EXPECT_LT(row.measured.at("tilt"), units::degToRad(15.0)) << row.id;
+  }
   const double v_mid = median(v_ratio), h_mid = median(h_ratio);
   EXPECT_GT(v_mid, 0.0);  // a pusher: forward
   for (size_t k = 0; k < t.rows.size(); ++k) {

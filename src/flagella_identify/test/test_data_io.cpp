@@ -46,7 +46,26 @@ const char* kSeriesYaml =
 
 TEST(DataIo, SteadyOutputNamesInDocumentedOrder) {
   EXPECT_EQ(steadyOutputNames(), (std::vector<std::string>{"v", "omega_h", "omega_t", "omega_yr",
-                                                           "R_yr", "buckling_threshold"}));
+                                                           "R_yr", "buckling_threshold", "tilt"}));
+}
+
+// The flagellum's tilt in degrees (docs/model.md 8.4.4) is stored in radians; 0-180 deg.
+TEST(DataIo, TiltColumnInDegrees) {
+  TempDir dir;
+  dir.write("t.csv", "omega_T_rpm, v_mm_s, tilt_deg\n40, 1.1, 1.5\n80, 2.2, \n");
+  const std::string yaml = dir.write(
+      "t.yaml", "kind: steady_state\ncsv: t.csv\nnoise: {v_mm_s: 0.003, tilt_deg: 0.2}\n");
+  const MeasuredData data = readMeasuredData(yaml);
+  const SteadyStateTable& t = data.tables.at(0);
+  EXPECT_NEAR(t.rows[0].measured.at("tilt"), 1.5 * units::pi / 180.0, 1e-15);
+  EXPECT_TRUE(std::isnan(t.rows[1].measured.at("tilt")));
+  EXPECT_NEAR(t.noise.at("tilt"), 0.2 * units::pi / 180.0, 1e-15);
+  const std::string csv = dir.write("u.csv", "omega_T_rpm, tilt_deg\n40, 190\n");
+  const std::string bad =
+      dir.write("u.yaml", "kind: steady_state\ncsv: u.csv\nnoise: {tilt_deg: 0.2}\n");
+  const std::string message = readError(bad);
+  EXPECT_TRUE(startsWith(message, csv + ":2:2:")) << message;
+  EXPECT_NE(message.find("180"), std::string::npos) << message;
 }
 
 TEST(DataIo, ThresholdTableNeedsNoMotorSpeed) {

@@ -104,5 +104,21 @@ TEST(DataOverrides, OverrideOfACandidateSectionIsAnError) {
   EXPECT_NO_THROW(checkDataOverrides(data, loadConfigTree(kConfig), kConfig, FittedNames{}));
 }
 
+// docs/model.md 8.4.4: only a helical flagellum has a tilt the model predicts; a table measuring
+// it for a robot of straight tails is refused before any run, naming the row.
+TEST(DataOverrides, TiltNeedsARobotWithOneHelicalFlagellum) {
+  TempDir dir;
+  const std::string csv = dir.write("t.csv", "omega_T_rpm,v_mm_s,tilt_deg\n60,1,\n60,1,1.5\n");
+  const std::string yaml =
+      dir.write("t.yaml", "kind: steady_state\ncsv: t.csv\nnoise: {v_mm_s: 0.1, tilt_deg: 0.2}\n");
+  const std::string message = overrideError(yaml);
+  EXPECT_EQ(message.rfind(csv + ":3:", 0), 0u) << message;
+  EXPECT_TRUE(contains(message, "tilt_deg")) << message;
+  EXPECT_TRUE(contains(message, "robot.type helical")) << message;
+  const std::string helical = FLAGELLA_CONFIG_DIR "/identification/helical_shore32_coarse.yaml";
+  EXPECT_NO_THROW(
+      checkDataOverrides(readMeasuredData(yaml), loadConfigTree(helical), helical, FittedNames{}));
+}
+
 }  // namespace
 }  // namespace flagella::identify

@@ -1,11 +1,14 @@
 // Discovery on the helical robot (config/identification/helical_shore32_coarse.yaml), the fast
-// case of the bench's helical table cases: a DC motor that slows under load hidden in a speed and
-// head-rate table below the buckling threshold, the head's drag factors also off by 10-20 %. The
-// tool gets only the data and the baseline config; it must name the motor, and skip the
-// candidates that cannot act on a single-flagellum swimmer in a liquid, saying why. The full
-// cases (20-90 rpm, null and viscosity drift included) run in flagella_discovery_bench.
+// case of the bench's helical table cases: a hook softer than the filament hidden in a table of
+// speed, head rate and the flagellum's tilt below the buckling threshold, the head's drag
+// factors also off by 10 %. The tool gets only the data and the baseline config; it must name the
+// hook over the DC motor, and skip the candidates that cannot act on a single-flagellum swimmer in
+// a liquid, saying why. The full cases (20-90 rpm; null, DC motor, viscosity drift and hook
+// included) run in flagella_discovery_bench. A DC motor hidden in the speed and head rate was
+// this test's case until the hook's (named, gain 91 %, 182 s); the bench names it (gain 90.1 %).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <iostream>
 #include <map>
 
@@ -22,7 +25,9 @@ namespace {
 const std::string kBaseline = FLAGELLA_CONFIG_DIR "/identification/helical_shore32_coarse.yaml";
 
 /// 12 rates of 40-95 rpm (below the threshold; the head turns in 2.3 s or less at 40 rpm, so a
-/// 5 s window spans two turns), the bench's noise.
+/// 5 s window spans two turns), the bench's noise. Tried and not kept: 10 rates of 50-95 rpm
+/// with a 2 s settle and a 3 s window: the DC motor's and the hook's identifications had not
+/// ended after 7.7 min of CPU each (3-4 min with this plan).
 TablePlan fastPlan() {
   TablePlan p;
   for (int k = 0; k < 12; ++k) p.omega_rpm.push_back(40.0 + 5.0 * k);
@@ -34,34 +39,41 @@ TablePlan fastPlan() {
   return p;
 }
 
-TEST(DiscoveryHelical, DcMotorNamedOnASpeedAndHeadRateTable) {
+// A hook softer than the filament (the weak end of its realistic range, 0.3-0.5) hidden in a
+// table that also measures the flagellum's tilt (docs/model.md 7.6, 8.4.4): the tilt changes by
+// tenths of a degree where the speed and head rate change by a fraction of a percent. It must be
+// named over the DC motor, which only the speed and head rate could show.
+TEST(DiscoveryHelical, SoftHookNamedFromTheFlagellumsTilt) {
   const YAML::Node baseline = loadConfigTree(kBaseline, {});
   const std::vector<std::string> free = caseFreeParameters(baseline);
   ASSERT_EQ(free, (std::vector<std::string>{"effects.stokes_head.C_t", "effects.stokes_head.C_r"}));
   Model truth(baseline, kBaseline, free);
-  truth.addCandidate(candidateByName("dc_motor"));
+  truth.addCandidate(candidateByName("hook_stiffness"));
   std::vector<double> values = truth.values();
-  values[static_cast<size_t>(truth.indexOf("effects.stokes_head.C_t"))] *= 1.15;
-  values[static_cast<size_t>(truth.indexOf("effects.stokes_head.C_r"))] *= 0.85;
-  // 1 / stall torque [1/(N m)]: the weak end of the typical range (80-230)
-  values[static_cast<size_t>(truth.indexOf("dc_motor.inverse_stall_torque"))] = 100.0;
+  values[static_cast<size_t>(truth.indexOf("effects.stokes_head.C_t"))] *= 0.9;
+  values[static_cast<size_t>(truth.indexOf("effects.stokes_head.C_r"))] *= 1.1;
+  values[static_cast<size_t>(truth.indexOf("hook_stiffness.ratio"))] = 0.5;
   truth.setValues(values);
+  TablePlan plan = fastPlan();
+  plan.tilt_noise = 0.2 * M_PI / 180.0;  // the bench's single-flagellum plan
   MeasuredData data;
-  data.tables.push_back(generateTable(truth, fastPlan(), 3));
+  data.tables.push_back(generateTable(truth, plan, 5));
 
   IdentifyOptions options;
   options.free = free;
-  options.candidates = {"dc_motor", "granular_yield", "granular_jamming", "fabrication_asymmetry"};
+  options.candidates = {"hook_stiffness", "dc_motor", "granular_yield", "granular_jamming",
+                        "fabrication_asymmetry"};
   options.evaluator.jobs = 1;  // ctest runs the suites side by side
   Identification identification(data, baseline, kBaseline, options);
   const IdentifyResult r = identification.run();
   std::cout << verdictText(r.verdict) << ": " << r.summary << std::endl;
 
   EXPECT_EQ(r.verdict, Verdict::kNamedCause) << r.summary;
-  EXPECT_EQ(r.named, std::vector<std::string>{"dc_motor"}) << r.summary;
+  EXPECT_EQ(r.named, std::vector<std::string>{"hook_stiffness"}) << r.summary;
   EXPECT_GE(r.gain, 0.5) << r.summary;
   std::map<std::string, std::string> notes;
   for (const ModelOutcome& m : r.candidates) notes[m.label] = m.fitted ? "" : m.note;
+  EXPECT_EQ(notes.at("hook_stiffness"), "");
   EXPECT_EQ(notes.at("dc_motor"), "");
   for (const std::string name : {"granular_yield", "granular_jamming", "fabrication_asymmetry"})
     EXPECT_EQ(notes.at(name).rfind("does not apply to this robot: ", 0), 0u)

@@ -196,7 +196,9 @@ TEST(Candidates, AreTheRegistrysFittableEffects) {
     }
     EXPECT_EQ(discoveryCaseByName(d->name).table, h.steady_table_data) << d->name;
   }
-  expected.push_back("fabrication_asymmetry");
+  // then the candidates that scale robot or effect fields of the baseline
+  for (const char* name : {"fabrication_asymmetry", "hook_stiffness", "head_tilt_drag"})
+    expected.push_back(name);
   std::vector<std::string> names;
   for (const Candidate& c : standardCandidates()) names.push_back(c.name);
   EXPECT_EQ(names, expected);

@@ -279,6 +279,60 @@ TEST(HelicalStiffness, RigidPartsAreThousandTimesTheFlagellum) {
   EXPECT_EQ(motor.node_c, net.parts.head_center_node);
 }
 
+// docs/model.md 8.4.1: hook_stiffness_scale multiplies the hook's joint at x_4 alone.
+TEST(HelicalStiffness, HookScaleMultipliesTheHookJointOnly) {
+  HelicalGeometry g = defaultGeometry();
+  const double EI = kYoungsModulus * M_PI * std::pow(kFilamentRadius, 4) / 4.0;
+  const double GJ = kYoungsModulus / 3.0 * M_PI * std::pow(kFilamentRadius, 4) / 2.0;
+  constexpr double kScale = 0.37;
+  g.hook_stiffness_scale = kScale;
+  const RodNetwork net = buildHelicalRobot(g);
+  int hook_joints = 0;
+  for (const BendTwistSpring& s : net.bend_twist_springs) {
+    if (s.edge_e <= 2) continue;                          // the rigid T0, T1, T2
+    const bool hook = s.node_c == kHeadAndHookNodes - 1;  // x_4, between e^3 and e^4
+    hook_joints += hook;
+    const double factor = hook ? kScale : 1.0;
+    EXPECT_NEAR(s.EI, factor * EI, kRelativeTol * EI) << "spring at " << s.node_c;
+    EXPECT_NEAR(s.GJ, factor * GJ, kRelativeTol * GJ) << "spring at " << s.node_c;
+  }
+  EXPECT_EQ(hook_joints, 1);
+}
+
+// Turn the helix rigidly about x_4, its material frames with it: only the hook's joint strains,
+// so the elastic energy is proportional to its stiffness, kScale times the unscaled robot's.
+TEST(HelicalStiffness, HookScaleScalesTheEnergyOfABentHook) {
+  HelicalGeometry g = defaultGeometry();
+  const RodNetwork plain = buildHelicalRobot(g);
+  constexpr double kScale = 2.6;
+  g.hook_stiffness_scale = kScale;
+  const RodNetwork scaled = buildHelicalRobot(g);
+  const VecX rest = plain.restDofs();
+  const ReferenceFrames rest_frames = initialFrames(plain, rest);
+  VecX q = rest;
+  const int x4 = kHeadAndHookNodes - 1;
+  const Vec3 pivot = q.segment<3>(RodNetwork::positionIndex(x4));
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.05, Vec3::UnitY()).toRotationMatrix();
+  for (int node = kHeadAndHookNodes; node < plain.numNodes(); ++node) {
+    const int i = RodNetwork::positionIndex(node);
+    q.segment<3>(i) = pivot + turn * (q.segment<3>(i) - pivot);
+  }
+  // space-parallel transport gives the turned edges other reference directors than the turned
+  // ones; the twist angles make their material frames the turned rest frames (docs/model.md 1.6)
+  const ReferenceFrames frames = initialFrames(plain, q);
+  for (int edge = kHeadAndHookNodes - 1; edge < plain.numEdges(); ++edge) {
+    const Vec3 m1 = turn * (std::cos(rest(plain.thetaIndex(edge))) * rest_frames.d1[edge] +
+                            std::sin(rest(plain.thetaIndex(edge))) * rest_frames.d2[edge]);
+    q(plain.thetaIndex(edge)) = std::atan2(m1.dot(frames.d2[edge]), m1.dot(frames.d1[edge]));
+  }
+  const auto elastic = [&](const RodNetwork& net) {
+    return stretchingEnergy(net, q) + bendTwistEnergy(net, q, frames);
+  };
+  const double e_plain = elastic(plain);
+  EXPECT_GT(e_plain, 0.0);
+  EXPECT_NEAR(elastic(scaled) / e_plain, kScale, 1e-6);
+}
+
 TEST(HelicalMasses, HeadNodesCarryTenFlagellumNodes) {
   const HelicalGeometry g = defaultGeometry();
   const RodNetwork net = buildHelicalRobot(g);
@@ -338,6 +392,8 @@ TEST(HelicalValidation, EachBadInputNamesItsField) {
       {"bad handedness", [](HelicalGeometry& g) { g.handedness = 0; }, "robot.handedness", ""},
       {"zero head radius", [](HelicalGeometry& g) { g.head_radius = 0.0; }, "robot.head_radius",
        ""},
+      {"zero hook stiffness", [](HelicalGeometry& g) { g.hook_stiffness_scale = 0.0; },
+       "robot.hook_stiffness_scale", "> 0"},
   };
   for (const BadGeometry& c : cases) {
     SCOPED_TRACE(c.what);
@@ -376,6 +432,8 @@ TEST(HelicalValidation, ConfigErrorsNameTheField) {
       {helicalConfig("  n_tails: 2\n"), "unknown field 'robot.n_tails'"},
       {helicalConfig("  pitch: 0.003\n"), "turns of the helix would touch"},
       {helicalConfig("  hook_length: 0.2\n"), "robot.hook_length"},
+      {helicalConfig("  hook_stiffness_scale: 200\n"),
+       "robot.hook_stiffness_scale must be in [0.01, 100]"},
       {helicalConfig("", "  buckling_tilt_deg: 0\n"), "simulation.buckling_tilt_deg"},
       {helicalConfig("", "  buckling_tilt_deg: 90\n"), "simulation.buckling_tilt_deg"},
   };
@@ -525,6 +583,7 @@ TEST(HelicalSummary, HeadingChangeTiltMaxAndBuckled) {
   SummaryMetrics m = summarize(samples, in);
   EXPECT_NEAR(units::radToDeg(m.heading_change), 30.0, 1e-9);
   EXPECT_NEAR(units::radToDeg(m.flagellum_tilt_max), 12.0, 1e-9);
+  EXPECT_NEAR(units::radToDeg(m.flagellum_tilt_mean), (5.0 * 1.0 + 12.0) / 6.0, 1e-9);
   EXPECT_FALSE(m.buckled);
   in.buckling_tilt = units::degToRad(10.0);
   m = summarize(samples, in);

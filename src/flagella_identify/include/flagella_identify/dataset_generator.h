@@ -24,6 +24,8 @@ struct TablePlan {
   double v_noise = 3e-6;          ///< [m/s]
   double omega_noise = 0.05;      ///< [rad/s], from counting turns over the window
   bool measure_rotation = true;   ///< write omega_h / omega_t
+  /// [rad]: > 0 writes the flagellum's mean tilt with this noise (a helical robot only)
+  double tilt_noise = 0.0;
 };
 
 struct SeriesPlan {

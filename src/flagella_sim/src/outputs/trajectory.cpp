@@ -19,8 +19,12 @@ constexpr double kMinPathSpeed = 1e-12;
 void addTurnAndBucklingMetrics(const std::vector<TrajectorySample>& samples, size_t first,
                                const SummaryInputs& in, SummaryMetrics& m) {
   m.heading_change = angleBetween(samples.front().head_axis, samples.back().head_axis);
-  for (size_t i = first; i < samples.size(); ++i)
+  double tilt_sum = 0.0;
+  for (size_t i = first; i < samples.size(); ++i) {
     m.flagellum_tilt_max = std::max(m.flagellum_tilt_max, samples[i].flagellum_tilt);
+    tilt_sum += samples[i].flagellum_tilt;
+  }
+  m.flagellum_tilt_mean = tilt_sum / static_cast<double>(samples.size() - first);
   m.buckled = m.flagellum_tilt_max > in.buckling_tilt;
 }
 

@@ -87,6 +87,7 @@ std::shared_ptr<RobotModel> parseHelicalRobot(FieldReader& r, RobotHeadSize& hea
                 ? HelicalMount::kGimbal
                 : HelicalMount::kUntethered;
   g.rigid_factor = r.number("rigid_factor", g.rigid_factor, 1.0, 1e6);
+  g.hook_stiffness_scale = r.number("hook_stiffness_scale", g.hook_stiffness_scale, 0.01, 100.0);
   validateHelicalGeometry(g);  // cross-field checks: self-intersection, hook, edge count
   // docs/model.md 5, 8.4.1: R_H is the sphere-equivalent radius, so the head volume
   // pi a^2 L_head = 4/3 pi R_H^3 with a = R_H, L_head = 4 R_H / 3.

@@ -25,7 +25,8 @@ void requirePositive(const std::string& field, double value, const std::string& 
 }
 
 // Helix nodes x_4 .. x_{N-1}: hook e^3 from the plate rim x_3, then equal-arc-length edges
-// (docs/model.md 8.4.1); every spring here has the flagellum's stiffness except T2 at x_3.
+// (docs/model.md 8.4.1); every spring here has the flagellum's stiffness except T2 at x_3 and
+// the hook's joint at x_4 (hook_stiffness_scale times it).
 void addFlagellum(NetworkBuilder& b, const HelicalGeometry& g, int plate_edge, int rim) {
   const RodMaterial& m = g.flagellum;
   std::vector<int> nodes{rim, b.addNode(g.helixPoint(0.0))};
@@ -36,7 +37,9 @@ void addFlagellum(NetworkBuilder& b, const HelicalGeometry& g, int plate_edge, i
   for (int j = 1; j <= n; ++j) {
     nodes.push_back(b.addNode(g.helixPoint(phi_end * j / n)));
     edges.push_back(b.addEdge(nodes[nodes.size() - 2], nodes.back(), m));
-    b.addBendTwistSpring(edges[edges.size() - 2], edges.back(), m);  // (e3, e4) at x_4 onwards
+    // (e3, e4) at x_4, the hook's joint (docs/model.md 8.4.1), then the helix springs
+    b.addBendTwistSpring(edges[edges.size() - 2], edges.back(), m,
+                         j == 1 ? g.hook_stiffness_scale : 1.0);
   }
   b.parts().tail_nodes = {nodes};
   b.parts().tail_edges = {edges};
@@ -113,6 +116,7 @@ void validateHelicalGeometry(const HelicalGeometry& g) {
   requirePositive("robot.youngs_modulus", g.flagellum.youngs_modulus, "Pa");
   requirePositive("robot.density", g.flagellum.density, "kg/m^3");
   requirePositive("robot.rigid_factor", g.rigid_factor, "");
+  requirePositive("robot.hook_stiffness_scale", g.hook_stiffness_scale, "");
   if (g.handedness != kRightHanded && g.handedness != kLeftHanded)
     throw ConfigError("robot.handedness must be right (+1) or left (-1), got " +
                       std::to_string(g.handedness));

@@ -64,6 +64,8 @@ enum Observable : unsigned {
   kVertical = 1u << 3,      ///< vertical head position or orientation of a time series
   kTimeResolved = 1u << 4,  ///< a time series (events within a run)
   kSessionTime = 1u << 5,   ///< experiments spread over the session (time_s, session_time_s)
+  kTilt = 1u << 6,          ///< the flagellum's tilt against the head axis (tilt_deg)
+  kLastObservable = kTilt,
 };
 
 /// One variable a discovery fit changes: an effect parameter, or its reciprocal.

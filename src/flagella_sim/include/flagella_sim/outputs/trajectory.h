@@ -25,7 +25,7 @@ struct TrajectorySample {
                              ///< unless an effect such as dc_motor modifies it)
   Vec3 head_velocity = Vec3::Zero();
   double yaw = 0.0;  ///< azimuth of the forward direction (-t^0) about the world vertical [rad]
-  double yaw_rate = 0.0;       ///< its instantaneous rate [rad/s] (docs/model.md 7.1 omega_yr)
+  double yaw_rate = 0.0;  ///< its instantaneous rate [rad/s] (docs/model.md 7.1 omega_yr)
   /// Angle between t^0 and the helix's principal axis [rad] (helical robot only, else 0;
   /// docs/model.md 8.4.4).
   double flagellum_tilt = 0.0;
@@ -56,6 +56,9 @@ struct SummaryMetrics {
   double heading_change = 0.0;
   /// Largest flagellum tilt in the steady window [rad] (docs/model.md 8.4.4).
   double flagellum_tilt_max = 0.0;
+  /// Mean flagellum tilt over the steady window [rad] (docs/model.md 8.4.4): the "tilt" column
+  /// of a measured table.
+  double flagellum_tilt_mean = 0.0;
   bool buckled = false;        ///< flagellum_tilt_max > SummaryInputs::buckling_tilt
   long newton_iterations = 0;  ///< over the whole run
   long subdivided_steps = 0;   ///< over the whole run

@@ -32,6 +32,9 @@ struct HelicalGeometry {
   int handedness = kLeftHanded;
   HelicalMount mount = HelicalMount::kUntethered;
   double rigid_factor = 1e3;  ///< stiffness multiplier of head, shaft, plate (docs/model.md 1.4)
+  /// Multiplier of the hook's bending-twisting spring (e^3, e^4) at x_4 against the
+  /// flagellum's EI, GJ: a hook stiffer or softer than the filament (docs/model.md 8.4.1).
+  double hook_stiffness_scale = 1.0;
   RodMaterial flagellum{1.225e6, 0.5, 1.584e-3, 1240.0};  ///< E, nu, r0, rho
 
   double axialLength() const { return pitch_count * pitch; }  ///< L_t [m]
