@@ -26,7 +26,15 @@ using data_io::overrideNameProblem;
 
 std::ofstream openForWriting(const std::string& path) {
   std::ofstream out(path);
-  if (!out) throw DataError(path, 0, 0, "cannot open the file for writing");
+  if (!out) {
+    const fs::path directory = fs::path(path).parent_path();
+    std::error_code ignored;
+    if (!directory.empty() && !fs::is_directory(directory, ignored))
+      throw DataError(path, 0, 0,
+                      "cannot open the file for writing: its directory '" + directory.string() +
+                          "' does not exist");
+    throw DataError(path, 0, 0, "cannot open the file for writing");
+  }
   out.exceptions(std::ios::failbit | std::ios::badbit);
   return out;
 }

@@ -487,6 +487,24 @@ TEST(DataIo, WritersRejectDataThatCouldNotBeReadBack) {
                  yaml + ": cannot write the time series: omega_cmd has 2 samples, t has 3"));
 }
 
+// A file in a directory that does not exist: the message names the directory.
+TEST(DataIo, WriterNamesAMissingDirectory) {
+  TempDir dir;
+  const std::string missing = (dir.path() / "not_made").string();
+  const std::string yaml = missing + "/w.yaml";
+  SteadyStateTable t;
+  t.settle_time = 10;
+  t.window = 20;
+  SteadyStateRow r;
+  r.omega_T = 1.0;
+  r.measured["v"] = 1e-3;
+  t.rows.push_back(r);
+  t.noise["v"] = 1e-6;
+  const std::string message = errorMessageOf<DataError>([&] { writeSteadyStateTable(t, yaml); });
+  EXPECT_NE(message.find("its directory '" + missing + "' does not exist"), std::string::npos)
+      << message;
+}
+
 // ------------------------------------------------------------------------------ malformed input
 // Each case asserts the exact file:line:column prefix of the message.
 

@@ -1,6 +1,7 @@
 // flagella_make_dataset: writes a measured-style data set (YAML metadata + CSV) generated from
 // a truth model with a hidden effect, as the tests do; for examples and for trying the tool.
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <iostream>
 
 #include "flagella_identify/discovery_cases.h"
@@ -20,7 +21,17 @@ int main(int argc, char** argv) {
   app.add_option("--case", case_name, "hidden-effect case: " + names)->required();
   app.add_option("--seed", seed, "draws the truth and the noise")->capture_default_str();
   app.add_option("--config", config, "baseline robot config")->capture_default_str();
-  app.add_option("--out", out, "metadata YAML to write (the CSV goes next to it)")->required();
+  // checked before the truth is simulated (minutes for some cases), not when writing
+  const CLI::Validator in_existing_directory(
+      [](const std::string& path) -> std::string {
+        const std::filesystem::path directory = std::filesystem::path(path).parent_path();
+        if (directory.empty() || std::filesystem::is_directory(directory)) return "";
+        return "its directory '" + directory.string() + "' does not exist";
+      },
+      "FILE in an existing directory");
+  app.add_option("--out", out, "metadata YAML to write (the CSV goes next to it)")
+      ->required()
+      ->check(in_existing_directory);
   if (const auto exit_code = flagella::cli::parseArguments(app, argc, argv)) return *exit_code;
   return flagella::cli::runGuarded([&] {
     const YAML::Node baseline = loadConfigTree(config, {});
