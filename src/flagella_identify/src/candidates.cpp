@@ -148,12 +148,14 @@ constexpr double kMinSessionSpread = 600.0;
 
 }  // namespace
 
-int tailCountOf(const YAML::Node& config) {
+std::shared_ptr<RobotModel> robotOf(const YAML::Node& config) {
   // only the robot section is read (the model run parses the whole config once more anyway)
   FieldReader robot(config["robot"], "robot");
   RobotHeadSize head;
-  return parseRobotSection(robot, head)->tailCount();
+  return parseRobotSection(robot, head);
 }
+
+int tailCountOf(const YAML::Node& config) { return robotOf(config)->tailCount(); }
 
 bool isSingleFlagellum(const YAML::Node& config) { return tailCountOf(config) < 2; }
 

@@ -4,9 +4,7 @@
 #include <cmath>
 #include <memory>
 
-#include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/robots/helical_robot.h"
-#include "flagella_sim/robots/robot_registry.h"
 
 namespace flagella {
 namespace identify {
@@ -17,32 +15,20 @@ namespace {
 constexpr double kLowestRatio = 0.1;
 constexpr double kHighestRatio = 10.0;
 
-/// The robot section's type name ("multi_tail" if absent, the parser's default).
-std::string robotTypeOf(const YAML::Node& config) {
-  const YAML::Node type = config["robot"]["type"];
-  return type ? type.as<std::string>() : std::string("multi_tail");
-}
-
-bool hasHelicalHook(const YAML::Node& config) {
-  FieldReader robot(config["robot"], "robot");
-  RobotHeadSize head;
-  const std::shared_ptr<RobotModel> model = parseRobotSection(robot, head);
-  return dynamic_cast<const RobotModelOf<HelicalGeometry>*>(model.get()) != nullptr;
-}
-
-/// The number at config[section][field], or `fallback` if it is not set.
-double fieldOr(const YAML::Node& config, const std::string& section, const std::string& field,
-               double fallback) {
-  const YAML::Node node = config[section][field];
-  return node ? node.as<double>() : fallback;
-}
-
 /// The config path `section[.sub].field` a ratio candidate scales.
 struct ScaledField {
   std::string section, sub, field;
   double fallback;  ///< its value when the config does not set it (the parser's default)
   std::string path() const { return section + (sub.empty() ? "" : "." + sub) + "." + field; }
+  /// Its value in `config`, or `fallback` where the config does not set it.
+  double valueIn(const YAML::Node& config) const {
+    const YAML::Node parent = sub.empty() ? config[section] : config[section][sub];
+    return parent[field] ? parent[field].as<double>() : fallback;
+  }
 };
+
+const ScaledField kHookStiffness{"robot", "", "hook_stiffness_scale", 1.0};
+const ScaledField kHeadTiltDrag{"effects", "stokes_head", "tilt_drag", 0.0};
 
 /// A one-variable candidate "<name>.ratio" multiplying the baseline's value of `f`, off at 1
 /// (the baseline exactly).
@@ -55,10 +41,10 @@ Candidate ratioCandidate(const std::string& name, const ScaledField& f) {
   c.steady_table_data = true;
   c.writes = {f.path()};
   c.apply = [f](YAML::Node& cfg, const std::vector<double>& v, double) {
+    const double scaled = f.valueIn(cfg) * v[0];
     YAML::Node parent = cfg[f.section];
     if (!f.sub.empty()) parent.reset(parent[f.sub]);
-    const double base = parent[f.field] ? parent[f.field].as<double>() : f.fallback;
-    parent[f.field] = base * v[0];
+    parent[f.field] = scaled;
   };
   return c;
 }
@@ -78,7 +64,7 @@ FitParameter fitVariable(const std::string& name, const std::string& unit, doubl
 }
 
 Candidate hookStiffnessCandidate() {
-  Candidate c = ratioCandidate("hook_stiffness", {"robot", "", "hook_stiffness_scale", 1.0});
+  Candidate c = ratioCandidate("hook_stiffness", kHookStiffness);
   c.title = "hook stiffer or softer than the flagellum (docs/model.md 8.4.1)";
   c.signature =
       "the flagellum's tilt against the head axis changes with the motor rate, the speed by "
@@ -88,15 +74,16 @@ Candidate hookStiffnessCandidate() {
   // of 40-95 rpm with 0.2 deg tilt noise did not show it (held-out RMS z 1.58, docs/model.md 7.6)
   c.typical = {{"hook_stiffness.ratio", 0.3, 0.5, false}};
   c.not_applicable = [](const YAML::Node& baseline) -> std::string {
-    if (hasHelicalHook(baseline)) return "";
-    return "changes the hook of a helical flagellum, and this robot (robot.type " +
-           robotTypeOf(baseline) + ") has none";
+    const std::shared_ptr<RobotModel> robot = robotOf(baseline);
+    if (dynamic_cast<const RobotModelOf<HelicalGeometry>*>(robot.get())) return "";
+    return "changes the hook of a helical flagellum, and this robot (robot.type " + robot->type() +
+           ") has none";
   };
   return c;
 }
 
 Candidate headTiltDragCandidate() {
-  Candidate c = ratioCandidate("head_tilt_drag", {"effects", "stokes_head", "tilt_drag", 0.0});
+  Candidate c = ratioCandidate("head_tilt_drag", kHeadTiltDrag);
   c.title = "the head's pitch and yaw drag other than modelled (docs/model.md 3.1)";
   c.signature =
       "the head axis cones less (or more) once per head turn and the track drifts sideways "
@@ -109,7 +96,7 @@ Candidate headTiltDragCandidate() {
   // a head longer than the sphere of its volume resists pitch and yaw more than spin
   c.typical = {{"head_tilt_drag.ratio", 2.5, 4.0, false}};
   c.not_applicable = [](const YAML::Node& baseline) -> std::string {
-    if (fieldOr(baseline["effects"], "stokes_head", "tilt_drag", 0.0) > 0.0) return "";
+    if (kHeadTiltDrag.valueIn(baseline) > 0.0) return "";
     return "scales the head's pitch and yaw drag (effects.stokes_head.tilt_drag), which this "
            "robot's config does not model (absent or 0)";
   };

@@ -2,12 +2,17 @@
 // of the baseline (candidates.cpp lists them after the effects).
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include "flagella_identify/candidates.h"
+#include "flagella_sim/robots/robot_model.h"
 
 namespace flagella {
 namespace identify {
+
+/// The robot of a config as its type's parser reads the section `robot` (defaults included).
+std::shared_ptr<RobotModel> robotOf(const YAML::Node& config);
 
 /// A fit variable over [lower, upper], started at the geometric (log scale) or arithmetic mean.
 FitParameter fitVariable(const std::string& name, const std::string& unit, double lower,

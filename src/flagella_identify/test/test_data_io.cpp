@@ -460,9 +460,8 @@ TEST(DataIo, TimeSeriesRoundTrip) {
   }
 }
 
-TEST(DataIo, WritersRejectDataThatCouldNotBeReadBack) {
-  TempDir dir;
-  const std::string yaml = (dir.path() / "w.yaml").string();
+/// A table of one row that measures v at 1 rad/s, with no noise given.
+SteadyStateTable oneRowTable() {
   SteadyStateTable t;
   t.settle_time = 10;
   t.window = 20;
@@ -470,6 +469,13 @@ TEST(DataIo, WritersRejectDataThatCouldNotBeReadBack) {
   r.omega_T = 1.0;
   r.measured["v"] = 1e-3;
   t.rows.push_back(r);
+  return t;
+}
+
+TEST(DataIo, WritersRejectDataThatCouldNotBeReadBack) {
+  TempDir dir;
+  const std::string yaml = (dir.path() / "w.yaml").string();
+  SteadyStateTable t = oneRowTable();
   EXPECT_TRUE(
       startsWith(errorMessageOf<DataError>([&] { writeSteadyStateTable(t, yaml); }),
                  yaml + ": cannot write the steady-state table: no noise for measured output 'v'"));
@@ -492,13 +498,7 @@ TEST(DataIo, WriterNamesAMissingDirectory) {
   TempDir dir;
   const std::string missing = (dir.path() / "not_made").string();
   const std::string yaml = missing + "/w.yaml";
-  SteadyStateTable t;
-  t.settle_time = 10;
-  t.window = 20;
-  SteadyStateRow r;
-  r.omega_T = 1.0;
-  r.measured["v"] = 1e-3;
-  t.rows.push_back(r);
+  SteadyStateTable t = oneRowTable();
   t.noise["v"] = 1e-6;
   const std::string message = errorMessageOf<DataError>([&] { writeSteadyStateTable(t, yaml); });
   EXPECT_NE(message.find("its directory '" + missing + "' does not exist"), std::string::npos)
