@@ -20,10 +20,14 @@ struct ScaledField {
   std::string section, sub, field;
   double fallback;  ///< its value when the config does not set it (the parser's default)
   std::string path() const { return section + (sub.empty() ? "" : "." + sub) + "." + field; }
-  /// Its value in `config`, or `fallback` where the config does not set it.
+  /// Its value in `config`, or `fallback` where the config does not set it (a missing section
+  /// or subsection included: indexing past one would throw YAML::InvalidNode).
   double valueIn(const YAML::Node& config) const {
-    const YAML::Node parent = sub.empty() ? config[section] : config[section][sub];
-    return parent[field] ? parent[field].as<double>() : fallback;
+    const YAML::Node top = config[section];
+    if (!top) return fallback;
+    const YAML::Node parent = sub.empty() ? top : top[sub];
+    if (!parent || !parent[field]) return fallback;
+    return parent[field].as<double>();
   }
 };
 

@@ -67,6 +67,12 @@ TEST(CandidateApplicability, HookAndHeadTiltDragNeedTheHelicalRobot) {
   EXPECT_NE(notApplicableReason(candidateByName("head_tilt_drag"), baseline(kGranular))
                 .find("effects.stokes_head.tilt_drag"),
             std::string::npos);
+  // a config without the head's Stokes drag at all gets the same reason, not an exception
+  YAML::Node without_head_drag = baseline(kHelical);
+  without_head_drag["effects"].remove("stokes_head");
+  EXPECT_NE(notApplicableReason(candidateByName("head_tilt_drag"), without_head_drag)
+                .find("effects.stokes_head.tilt_drag"),
+            std::string::npos);
 }
 
 // The fitted ratio multiplies what the baseline has, and the off value 1 leaves it alone.
