@@ -1,8 +1,11 @@
 #include "flagella_identify/discovery_cases.h"
 
+#include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 
 #include "flagella_identify/dataset_generator.h"
 #include "flagella_identify/model.h"
@@ -30,6 +33,15 @@ std::vector<TypicalStrength> rangesOf(const Candidate& c, const YAML::Node& base
   if (typical.empty())
     throw std::invalid_argument("no typical strength for effect '" + c.name + "'");
   return typical;
+}
+
+/// The truth's model of case `c`: the baseline (at the case's tail count) with its hidden effects.
+Model truthModel(const DiscoveryCase& c, const YAML::Node& baseline, const std::string& source) {
+  YAML::Node robot = YAML::Clone(baseline);
+  if (c.tails > 0) robot["robot"]["n_tails"] = c.tails;
+  Model truth(robot, source, caseFreeParameters(baseline));
+  for (const std::string& effect : c.hidden) truth.addCandidate(candidateByName(effect));
+  return truth;
 }
 
 double logUniform(std::mt19937_64& rng, double low, double high) {
@@ -172,11 +184,10 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
                                 baseline_source + ": " + not_applicable);
   std::mt19937_64 rng(seed * 7919 + 17);
   GeneratedCase out;
-  YAML::Node robot = YAML::Clone(baseline);
-  if (c.tails > 0) robot["robot"]["n_tails"] = c.tails;
-  Model truth(robot, baseline_source, caseFreeParameters(baseline));
+  Model truth = truthModel(c, baseline, baseline_source);
+  // the drawn baseline values first, then each hidden effect's strengths (the draws' order)
   std::vector<double> values = truth.values();
-  for (size_t i = 0; i < values.size(); ++i) {
+  for (int i = 0; i < truth.baselineCount(); ++i) {
     values[i] *= logUniform(rng, 0.8, 1.25);
     out.truth[truth.parameters()[i].name] = values[i];
   }
@@ -184,9 +195,6 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
   description << "case " << c.name << ", seed " << seed << ": ";
   for (const std::string& effect : c.hidden) {
     const Candidate& candidate = candidateByName(effect);
-    truth.addCandidate(candidate);
-    const std::vector<double> defaults = truth.values();  // new variables start at defaults
-    values.insert(values.end(), defaults.begin() + values.size(), defaults.end());
     for (const TypicalStrength& r : rangesOf(candidate, baseline, rng)) {
       double v = (r.low == r.high ? r.low : logUniform(rng, r.low, r.high)) * c.strength_scale;
       if (r.random_sign && std::uniform_int_distribution<int>(0, 1)(rng) == 1) v = -v;
@@ -197,6 +205,17 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
       values[static_cast<size_t>(index)] = v;
       out.truth[r.variable] = v;
     }
+  }
+  out.truth_values = values;
+  out.truth_without_hidden = values;
+  size_t offset = static_cast<size_t>(truth.baselineCount());
+  for (const std::string& effect : c.hidden) {
+    const Candidate& candidate = candidateByName(effect);
+    const std::vector<double>& off = candidate.off;
+    if (off.size() != candidate.variables.size())
+      throw std::logic_error("effect '" + effect + "' has no off value for each variable");
+    std::copy(off.begin(), off.end(), out.truth_without_hidden.begin() + offset);
+    offset += off.size();
   }
   truth.setValues(values);
   out.truth_config = truth.extendedConfig();
@@ -223,6 +242,54 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
   }
   for (const auto& [name, v] : out.truth) description << name << " = " << v << "; ";
   out.description = description.str();
+  return out;
+}
+
+HiddenSignature hiddenSignature(const DiscoveryCase& c, const GeneratedCase& g,
+                                const YAML::Node& baseline, const std::string& baseline_source,
+                                const EvaluatorOptions& options) {
+  HiddenSignature out;
+  if (c.hidden.empty()) return out;
+  const Model truth = truthModel(c, baseline, baseline_source);
+  const Evaluator evaluator(g.data, makeSplit(g.data), options);
+  // The truth, the truth without the hidden effects, and the latter with each baseline
+  // parameter stepped (they are fitted on a log scale): a forward-difference Jacobian.
+  constexpr double kLogStep = 1e-3;
+  const int baseline_count = truth.baselineCount();
+  std::vector<std::vector<double>> values = {g.truth_values, g.truth_without_hidden};
+  for (int k = 0; k < baseline_count; ++k) {
+    values.push_back(g.truth_without_hidden);
+    values.back()[static_cast<size_t>(k)] *= std::exp(kLogStep);
+  }
+  // Column 0: the hidden effects' change of every residual, in noise units (the data cancel);
+  // then d z / d ln p of each baseline parameter.
+  const auto columns = [&](Part part) {
+    const std::vector<Evaluation> e = evaluator.evaluateMany(truth, values, part);
+    for (const Evaluation& each : e)
+      if (!each.ok || each.points.size() != e[0].points.size())
+        throw std::runtime_error("case " + c.name +
+                                 ": the truth model failed on its own data: " + each.failure);
+    Eigen::MatrixXd d(static_cast<Eigen::Index>(e[0].points.size()), 1 + baseline_count);
+    for (Eigen::Index i = 0; i < d.rows(); ++i) {
+      const double without = e[1].points[static_cast<size_t>(i)].z();
+      d(i, 0) = e[0].points[static_cast<size_t>(i)].z() - without;
+      for (int k = 0; k < baseline_count; ++k)
+        d(i, 1 + k) = (e[2 + k].points[static_cast<size_t>(i)].z() - without) / kLogStep;
+    }
+    return d;
+  };
+  const Eigen::MatrixXd train = columns(Part::kTrain), held = columns(Part::kHeldOut);
+  out.train_count = static_cast<int>(train.rows());
+  out.held_out_count = static_cast<int>(held.rows());
+  out.train_chi_square = train.col(0).squaredNorm();
+  out.held_out_chi_square = held.col(0).squaredNorm();
+  // what a baseline fit on the training rows absorbs, to first order (linear least squares)
+  Eigen::VectorXd shift = Eigen::VectorXd::Zero(baseline_count);
+  if (baseline_count > 0 && train.rows() > 0)
+    shift = train.rightCols(baseline_count).colPivHouseholderQr().solve(train.col(0));
+  out.train_unabsorbed = (train.col(0) - train.rightCols(baseline_count) * shift).squaredNorm();
+  out.held_out_unabsorbed = (held.col(0) - held.rightCols(baseline_count) * shift).squaredNorm();
+  out.defined = true;
   return out;
 }
 

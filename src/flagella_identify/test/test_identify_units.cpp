@@ -256,6 +256,55 @@ TEST(DiscoveryCases, TheTruthModelRunsTheDrawnValues) {
   }
 }
 
+TEST(DiscoveryCases, HiddenSignatureIsQuadraticInASmallEffect) {
+  // A weak viscosity drift changes every prediction in proportion to its rate (docs/model.md
+  // 7.6: speeds scale as 1/mu(t)), so its signature in noise units, raw and what the baseline
+  // parameters leave of it, grows with the square of the rate: x4 for twice the rate.
+  const YAML::Node baseline = loadConfigTree(testing::baselinePath(), {});
+  DiscoveryCase weak = discoveryCaseByName("viscosity_drift");
+  DiscoveryCase twice = weak;
+  weak.strength_scale = 0.05;
+  twice.strength_scale = 0.1;
+  const std::string source = testing::baselinePath();
+  const HiddenSignature a =
+      hiddenSignature(weak, generateCase(weak, baseline, source, 2), baseline, source);
+  const HiddenSignature b =
+      hiddenSignature(twice, generateCase(twice, baseline, source, 2), baseline, source);
+  ASSERT_TRUE(a.defined && b.defined);
+  EXPECT_EQ(a.train_count + a.held_out_count, 3 * 14);  // v, omega_h, omega_t of 14 rows
+  EXPECT_GT(a.train_unabsorbed, 0.0);
+  EXPECT_NEAR(b.train_chi_square / a.train_chi_square, 4.0, 0.2);
+  EXPECT_NEAR(b.held_out_chi_square / a.held_out_chi_square, 4.0, 0.2);
+  EXPECT_NEAR(b.train_unabsorbed / a.train_unabsorbed, 4.0, 0.2);
+  // absorbing the baseline parameters can only lower the training part
+  EXPECT_LE(a.train_unabsorbed, a.train_chi_square * (1.0 + 1e-9));
+  // no hidden candidate: nothing to measure
+  EXPECT_FALSE(hiddenSignature(discoveryCaseByName("null_table"),
+                               generateCase(discoveryCaseByName("null_table"), baseline, source, 2),
+                               baseline, source)
+                   .defined);
+}
+
+TEST(DiscoveryCases, AYieldNoRowCanShowIsAbsorbedByTheBaseline) {
+  // sparse_yield_3_fast_rows: 200-260 rpm, where the yield's constant resistance is
+  // indistinguishable from a stiffer medium (docs/model.md 7.6). Its raw signature is large, but
+  // the baseline's viscosity, C_t and C_r absorb it below the one-parameter bar (chi^2 10.8 at
+  // p = 1e-3); the same yield in the full plan (40-250 rpm, 2 and 3 tails) is not absorbed.
+  const YAML::Node baseline = loadConfigTree(testing::baselinePath(), {});
+  const std::string source = testing::baselinePath();
+  for (const char* name : {"sparse_yield_3_fast_rows", "granular_yield"}) {
+    const DiscoveryCase& c = discoveryCaseByName(name);
+    const HiddenSignature s =
+        hiddenSignature(c, generateCase(c, baseline, source, 2), baseline, source);
+    ASSERT_TRUE(s.defined) << name;
+    EXPECT_GT(s.train_chi_square, 100.0) << name;
+    if (std::string(name) == "granular_yield")
+      EXPECT_GT(s.train_unabsorbed, 10.83) << name;
+    else
+      EXPECT_LT(s.train_unabsorbed, 10.83) << name;
+  }
+}
+
 TEST(Calibration, RecoversDrawnTruthWithinItsUncertainty) {
   const YAML::Node baseline = loadConfigTree(testing::baselinePath(), {});
   const GeneratedCase g =

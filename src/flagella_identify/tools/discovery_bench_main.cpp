@@ -40,8 +40,13 @@ struct BenchArgs {
   std::vector<std::string> cases, candidates;
   int first_seed = 1, seeds = 3, jobs = 2;
   std::string config = FLAGELLA_CONFIG_DIR "/identification/granular_design1_coarse.yaml";
-  bool verbose = false, before = false;
+  bool verbose = false, before = false, signature_only = false;
 };
+
+/// chi^2 of one parameter at p = 1e-3: a hidden effect whose signature in the training rows,
+/// once the baseline parameters absorb what they can, is under this cannot be established from
+/// them (HiddenSignature).
+constexpr double kVisibleSignature = 10.83;
 
 /// Declares the command-line options, bound to `a`.
 void addOptions(CLI::App& app, BenchArgs& a) {
@@ -55,6 +60,9 @@ void addOptions(CLI::App& app, BenchArgs& a) {
   app.add_option("--candidates", a.candidates, "candidate effects (default: the standard list)")
       ->delimiter(',');
   app.add_flag("--verbose", a.verbose, "progress of every identification");
+  app.add_flag("--signature-only", a.signature_only,
+               "only how far each case's hidden effects move the truth's predictions of its data "
+               "(training and held-out chi^2 against the truth without them), no identification");
   app.add_flag("--without-small-data-methods", a.before,
                "without cross validation, power check and continuation fits (the pipeline "
                "before them, for a before/after table)");
@@ -63,6 +71,7 @@ void addOptions(CLI::App& app, BenchArgs& a) {
 /// One case's runs so far.
 struct Tally {
   int runs = 0, correct = 0, false_names = 0;
+  int invisible = 0;  ///< runs whose hidden signature in the training rows is under the bar
   double seconds = 0.0;
   std::vector<double> gains;
   std::vector<std::string> outcomes;
@@ -75,6 +84,25 @@ void runSeed(const BenchArgs& a, const DiscoveryCase& c, const std::string& name
   EvaluatorOptions eo;
   eo.jobs = a.jobs;
   GeneratedCase g = generateCase(c, baseline, a.config, seed, eo);
+  const HiddenSignature signature = hiddenSignature(c, g, baseline, a.config, eo);
+  char signature_text[240] = "no hidden candidate";
+  if (signature.defined)
+    std::snprintf(signature_text, sizeof signature_text,
+                  "hidden signature: training chi^2 %.3g over %d (%.3g left by the baseline "
+                  "parameters), held-out %.3g over %d (%.3g left)",
+                  signature.train_chi_square, signature.train_count, signature.train_unabsorbed,
+                  signature.held_out_chi_square, signature.held_out_count,
+                  signature.held_out_unabsorbed);
+  Tally& t = tally[name];
+  const bool invisible = signature.defined && signature.train_unabsorbed < kVisibleSignature;
+  if (a.signature_only) {
+    ++t.runs;
+    t.invisible += invisible;
+    std::printf("%-26s seed %2d: %s%s\n", name.c_str(), seed, signature_text,
+                invisible ? " (under the bar in training)" : "");
+    std::fflush(stdout);
+    return;
+  }
   IdentifyOptions o;
   o.free = caseFreeParameters(baseline);
   o.candidates = a.candidates;
@@ -85,10 +113,10 @@ void runSeed(const BenchArgs& a, const DiscoveryCase& c, const std::string& name
   const IdentifyResult r = id.run();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  Tally& t = tally[name];
   ++t.runs;
   const bool ok = correct(c, r);
   t.correct += ok;
+  t.invisible += invisible;
   t.seconds += seconds;
   for (const std::string& n : r.named)
     if (std::find(c.hidden.begin(), c.hidden.end(), n) == c.hidden.end()) ++t.false_names;
@@ -101,15 +129,17 @@ void runSeed(const BenchArgs& a, const DiscoveryCase& c, const std::string& name
       name.c_str(), seed, ok ? "OK" : "WRONG", verdictText(r.verdict).c_str(), named.c_str(),
       100.0 * r.gain, r.baseline_diagnosis.rms_z, seconds);
   if (!ok || a.verbose)
-    std::printf("    truth: %s\n    %s\n", g.description.c_str(), r.summary.c_str());
+    std::printf("    truth: %s\n    %s\n    %s\n", g.description.c_str(), signature_text,
+                r.summary.c_str());
   std::fflush(stdout);
 }
 
 /// Prints the detection table (markdown), one row per case.
 void printTable(const std::vector<std::string>& cases, std::map<std::string, Tally>& tally) {
   std::printf(
-      "\n| case | runs | right | false names | median gain | mean time |\n"
-      "|---|---|---|---|---|---|\n");
+      "\n| case | runs | right | false names | median gain | mean time | hidden effect under the "
+      "bar in training |\n"
+      "|---|---|---|---|---|---|---|\n");
   for (const std::string& name : cases) {
     Tally& t = tally[name];
     std::sort(t.gains.begin(), t.gains.end());
@@ -118,8 +148,8 @@ void printTable(const std::vector<std::string>& cases, std::map<std::string, Tal
             ? "-"
             : std::to_string(static_cast<int>(std::lround(100.0 * t.gains[t.gains.size() / 2]))) +
                   " %";
-    std::printf("| %s | %d | %d | %d | %s | %.0f s |\n", name.c_str(), t.runs, t.correct,
-                t.false_names, gain.c_str(), t.seconds / std::max(1, t.runs));
+    std::printf("| %s | %d | %d | %d | %s | %.0f s | %d |\n", name.c_str(), t.runs, t.correct,
+                t.false_names, gain.c_str(), t.seconds / std::max(1, t.runs), t.invisible);
   }
 }
 

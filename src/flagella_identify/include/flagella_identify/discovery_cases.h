@@ -47,6 +47,9 @@ struct GeneratedCase {
   MeasuredData data;
   std::map<std::string, double> truth;  ///< every drawn truth value, by parameter name
   YAML::Node truth_config;              ///< the truth model's robot config (no overrides)
+  /// The truth model's parameter values (baseline parameters, then each hidden effect's
+  /// variables), and the same with the hidden effects at their off values.
+  std::vector<double> truth_values, truth_without_hidden;
   std::string description;
 };
 
@@ -64,6 +67,23 @@ GeneratedCase generateCase(const DiscoveryCase& c, const YAML::Node& baseline,
                            const std::string& baseline_source, std::uint64_t seed,
                            const EvaluatorOptions& options = {});
 
+/// How far a case's hidden effects move the truth's predictions of its own data: the sum over
+/// the residuals of ((truth - truth without the hidden effects) / sigma)^2, for the training
+/// and the held-out part of the identification's default split (makeSplit; small tables are
+/// cross-validated instead); and what of it is left once the baseline parameters (C_t, C_r,
+/// ...) are refitted on the training part to absorb what they can, to first order (a linear
+/// least-squares step on their forward-difference Jacobian, log steps of 1e-3). Where the
+/// unabsorbed training part is under about 10.8 (chi^2 of one parameter at p = 1e-3), no fit
+/// on the training rows can establish the effect, whatever the tool does (docs/model.md 7.6).
+struct HiddenSignature {
+  bool defined = false;  ///< false for a case without a hidden candidate (null, unknown)
+  double train_chi_square = 0.0, held_out_chi_square = 0.0;
+  double train_unabsorbed = 0.0, held_out_unabsorbed = 0.0;
+  int train_count = 0, held_out_count = 0;
+};
+HiddenSignature hiddenSignature(const DiscoveryCase& c, const GeneratedCase& g,
+                                const YAML::Node& baseline, const std::string& baseline_source,
+                                const EvaluatorOptions& options = {});
 /// The baseline parameters the cases perturb and the tool fits.
 const std::vector<std::string>& caseFreeParameters();
 /// The same for the robot of this baseline config: on a single-flagellum robot the head's C_t
