@@ -181,6 +181,12 @@ bool solve(SimulationResiduals& cost, const Coordinates& coords, const FitOption
   so.linear_solver_type = ceres::DENSE_QR;
   so.max_num_iterations = options.max_iterations;
   so.function_tolerance = options.function_tolerance;
+  // With bounds, Ceres refines every trust-region step by a projected Armijo line search (off
+  // when max_line_search_trials is 0: the step is then projected onto the bounds and judged by
+  // the trust region alone). Its trials ask for the cost only (bisection): the default cubic
+  // interpolation wants the gradient at each, here n more simulations.
+  so.line_search_interpolation_type = ceres::BISECTION;
+  so.max_num_line_search_step_size_iterations = options.max_line_search_trials;
   so.logging_type = ceres::SILENT;
   so.minimizer_progress_to_stdout = false;
   ProgressCallback callback(options);

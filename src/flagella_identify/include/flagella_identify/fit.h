@@ -18,8 +18,12 @@ namespace identify {
 struct FitOptions {
   int max_iterations = 25;
   double function_tolerance = 1e-4;  ///< relative change of the cost that ends the fit
-  double log_step = 1e-3;            ///< finite-difference step of log-scale parameters
-  double linear_step = 1e-5;         ///< ... of linear parameters, as a fraction of their range
+  /// Trials of the projected line search along each trust-region step (0: none). Measured on
+  /// the helical robot's tables: near the optimum a rejected step's trials shrink toward the
+  /// current point and fail, each trial a model evaluation (with cubic interpolation 1 + n).
+  int max_line_search_trials = 0;
+  double log_step = 1e-3;     ///< finite-difference step of log-scale parameters
+  double linear_step = 1e-5;  ///< ... of linear parameters, as a fraction of their range
   /// One free parameter: minimise chi^2 without derivatives (downhill bracketing, then Brent's
   /// method), for outputs that scatter with the model (buckling thresholds, docs/model.md
   /// 8.4.5). More free parameters still use Levenberg-Marquardt.
