@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <stdexcept>
 
 #include "minimise_one_dimension.h"
 
@@ -330,8 +331,26 @@ std::vector<std::string> offTheMap(const std::vector<FitParameter>& parameters) 
   return out;
 }
 
+void validateFitOptions(const FitOptions& o) {
+  auto refuse = [](const char* field, const char* range, double got) {
+    throw std::invalid_argument(std::string("FitOptions::") + field + " must be " + range +
+                                ", got " + std::to_string(got));
+  };
+  if (o.max_iterations < 1) refuse("max_iterations", ">= 1", o.max_iterations);
+  if (!(o.function_tolerance > 0.0 && o.function_tolerance < 1.0))
+    refuse("function_tolerance", "in (0, 1)", o.function_tolerance);
+  if (o.max_line_search_trials < 0)
+    refuse("max_line_search_trials", ">= 0 (0: no line search)", o.max_line_search_trials);
+  if (!(o.log_step > 0.0 && o.log_step < 1.0)) refuse("log_step", "in (0, 1)", o.log_step);
+  if (!(o.linear_step > 0.0 && o.linear_step < 1.0))
+    refuse("linear_step", "in (0, 1)", o.linear_step);
+  if (!(o.bracket_step > 0.0)) refuse("bracket_step", "> 0", o.bracket_step);
+  if (!(o.bracket_tolerance > 0.0)) refuse("bracket_tolerance", "> 0", o.bracket_tolerance);
+}
+
 FitResult fitModel(Model& model, const Evaluator& evaluator, const FitOptions& options,
                    const std::vector<bool>& free) {
+  validateFitOptions(options);
   // Ceres reports failed evaluations (a model that cannot be simulated at a trial point) by
   // dumping its state through glog; the fit handles them, so keep stderr for real errors.
   static const bool quiet_glog = [] {

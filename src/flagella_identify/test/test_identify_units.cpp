@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <random>
+#include <stdexcept>
+#include <utility>
 
 #include "flagella_identify/calibration.h"
 #include "flagella_identify/candidates.h"
@@ -303,6 +306,38 @@ TEST(DiscoveryCases, AYieldNoRowCanShowIsAbsorbedByTheBaseline) {
     else
       EXPECT_LT(s.train_unabsorbed, 10.83) << name;
   }
+}
+
+TEST(FitOptions, BadOptionsAreRefusedNamingTheField) {
+  EXPECT_NO_THROW(validateFitOptions(FitOptions{}));
+  const std::vector<std::pair<std::string, std::function<void(FitOptions&)>>> bad = {
+      {"max_iterations", [](FitOptions& o) { o.max_iterations = 0; }},
+      {"function_tolerance", [](FitOptions& o) { o.function_tolerance = 0.0; }},
+      {"function_tolerance", [](FitOptions& o) { o.function_tolerance = std::nan(""); }},
+      {"max_line_search_trials", [](FitOptions& o) { o.max_line_search_trials = -1; }},
+      {"log_step", [](FitOptions& o) { o.log_step = -1e-3; }},
+      {"linear_step", [](FitOptions& o) { o.linear_step = 1.0; }},
+      {"bracket_step", [](FitOptions& o) { o.bracket_step = 0.0; }},
+      {"bracket_tolerance", [](FitOptions& o) { o.bracket_tolerance = -0.1; }}};
+  for (const auto& [field, spoil] : bad) {
+    FitOptions o;
+    spoil(o);
+    try {
+      validateFitOptions(o);
+      ADD_FAILURE() << field << " out of range was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("FitOptions::" + field), std::string::npos) << e.what();
+    }
+  }
+  // fitModel refuses them before any simulation
+  const YAML::Node baseline = loadConfigTree(testing::baselinePath(), {});
+  const GeneratedCase g =
+      generateCase(discoveryCaseByName("null_table"), baseline, testing::baselinePath(), 21);
+  const Evaluator evaluator(g.data, makeSplit(g.data));
+  Model model(baseline, testing::baselinePath(), caseFreeParameters());
+  FitOptions o;
+  o.max_line_search_trials = -2;
+  EXPECT_THROW(fitModel(model, evaluator, o), std::invalid_argument);
 }
 
 TEST(Calibration, RecoversDrawnTruthWithinItsUncertainty) {

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "flagella_sim/core/dense_lu_solver.h"
@@ -47,6 +48,17 @@ TEST(DenseLu, RefusesSingularAndNonFiniteMatrices) {
   A = randomMatrix(6, 12);
   A(2, 3) = std::nan("");
   EXPECT_FALSE(lu.factorize(A));
+  // A NaN or an infinity in a column of small entries, before or after the largest column:
+  // refused whatever the order in which the column norms are compared
+  for (double bad : {std::nan(""), std::numeric_limits<double>::infinity()})
+    for (int col : {0, 3, 5}) {
+      A = randomMatrix(6, 13);
+      A *= 1e-6;
+      A.col(2) *= 1e12;
+      A(4, col) = bad;
+      EXPECT_FALSE(lu.factorize(A)) << bad << " in column " << col;
+      EXPECT_FALSE(lu.factorize(MatX(A))) << bad << " in column " << col << ", in place";
+    }
   A = MatX::Identity(3, 3);
   A(2, 2) = 1e-18;  // rcond 1e-18 below the default threshold 1e-15
   EXPECT_FALSE(lu.factorize(A));

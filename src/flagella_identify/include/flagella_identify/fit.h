@@ -56,9 +56,13 @@ struct FitResult {
 /// wider than its whole range, or none at all (not identifiable). Empty: every one is inside.
 std::vector<std::string> offTheMap(const std::vector<FitParameter>& parameters);
 
+/// Throws std::invalid_argument naming the first field out of its range.
+void validateFitOptions(const FitOptions& options);
+
 /// Fits the parameters whose `free` flag is set (all if empty), starting from model values.
 /// The model's values are set to the result. It never ends above its start: should the
-/// optimiser, the start values are kept (sigma NaN, said in the message).
+/// optimiser, the start values are kept (sigma NaN, said in the message). Bad options are
+/// refused before any simulation (validateFitOptions).
 FitResult fitModel(Model& model, const Evaluator& evaluator, const FitOptions& options,
                    const std::vector<bool>& free = {});
 

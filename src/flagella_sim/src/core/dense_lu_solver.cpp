@@ -1,5 +1,6 @@
 #include "flagella_sim/core/dense_lu_solver.h"
 
+#include <cmath>
 #include <limits>
 #include <mutex>
 #include <stdexcept>
@@ -41,9 +42,11 @@ bool DenseLuSolver::checkInput(const MatX& A) {
   useOneThread();
   if (A.rows() != A.cols()) throw std::invalid_argument("DenseLuSolver: matrix is not square");
   rcond_ = 0.0;
-  if (!A.allFinite()) return false;
-  anorm_ = A.cwiseAbs().colwise().sum().maxCoeff();  // 1-norm, for the condition estimate
-  return true;
+  // 1-norm, for the condition estimate, in the same pass as the finiteness check: a NaN or an
+  // infinite entry makes its column's sum non-finite (a finite matrix whose sum overflows would
+  // have a zero condition estimate, refused all the same)
+  anorm_ = A.cwiseAbs().colwise().sum().maxCoeff<Eigen::PropagateNaN>();
+  return std::isfinite(anorm_);
 }
 
 bool DenseLuSolver::factorizeStored(double min_rcond) {
