@@ -162,14 +162,30 @@ std::string configurationText(const SuggestedMeasurement& s) {
   return text;
 }
 
+namespace {
+
+double weakerEnd(const TypicalStrength& t, const FitParameter& variable, const double* off) {
+  if (off == nullptr) return t.low;
+  // The end nearer the value at which the effect vanishes, in the variable's fit coordinate: a
+  // ratio whose realistic range lies below its off value of 1 is weakest at the range's high end
+  auto distance = [&](double v) {
+    return variable.log_scale && v > 0.0 && *off > 0.0 ? std::abs(std::log(v / *off))
+                                                       : std::abs(v - *off);
+  };
+  return distance(t.high) < distance(t.low) ? t.high : t.low;
+}
+
+}  // namespace
+
 std::vector<double> weakestTypicalStrength(const Candidate& c, const YAML::Node& baseline) {
   std::vector<double> strength;
   bool any = false;
   for (size_t i = 0; i < c.variables.size(); ++i) {
-    double value = c.off.size() > i ? c.off[i] : c.variables[i].value;
+    const double* off = c.off.size() > i ? &c.off[i] : nullptr;
+    double value = off ? *off : c.variables[i].value;
     for (const TypicalStrength& t : typicalStrengths(c, baseline))
       if (t.variable == c.variables[i].name) {
-        value = t.low;
+        value = weakerEnd(t, c.variables[i], off);
         any = true;
       }
     strength.push_back(value);

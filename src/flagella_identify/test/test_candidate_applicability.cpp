@@ -14,6 +14,7 @@
 #include "flagella_identify/candidates.h"
 #include "flagella_identify/discovery_cases.h"
 #include "flagella_identify/model.h"
+#include "flagella_identify/power_check.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/outputs/fits.h"
 
@@ -133,6 +134,37 @@ TEST(CandidateApplicability, StrengthsFollowTheRobot) {
   }
   const Candidate& motor = candidateByName("dc_motor");  // no robot-specific range: the same
   EXPECT_EQ(&typicalStrengths(motor, baseline(kHelical)), &motor.typical);
+}
+
+TEST(CandidateApplicability, PowerCheckTriesEachEffectAtItsWeakestRealisticStrength) {
+  // The end of each realistic range nearer the value at which the effect vanishes (in the fit
+  // coordinate): a hook 0.3-0.5 times as stiff (off at 1) is weakest at 0.5, not at 0.3
+  const YAML::Node helical = baseline(kHelical);
+  EXPECT_EQ(weakestTypicalStrength(candidateByName("hook_stiffness"), helical),
+            std::vector<double>{0.5});
+  EXPECT_EQ(weakestTypicalStrength(candidateByName("head_tilt_drag"), helical),
+            std::vector<double>{2.5});
+  int checked = 0;
+  for (const char* config : {kGranular, kHelical})
+    for (const Candidate& c : standardCandidates()) {
+      const std::vector<double> weakest = weakestTypicalStrength(c, baseline(config));
+      for (const TypicalStrength& t : typicalStrengths(c, baseline(config))) {
+        const auto v = std::find_if(c.variables.begin(), c.variables.end(),
+                                    [&](const FitParameter& p) { return p.name == t.variable; });
+        ASSERT_NE(v, c.variables.end()) << c.name << ": " << t.variable;
+        const size_t i = static_cast<size_t>(v - c.variables.begin());
+        ASSERT_LT(i, weakest.size()) << c.name;
+        ASSERT_LT(i, c.off.size()) << c.name;
+        const double w = weakest[i], other = w == t.low ? t.high : t.low;
+        EXPECT_TRUE(w == t.low || w == t.high) << c.name << " " << config;
+        auto from_off = [&](double x) {
+          return v->log_scale ? std::abs(std::log(x / c.off[i])) : std::abs(x - c.off[i]);
+        };
+        EXPECT_LE(from_off(w), from_off(other)) << c.name << " " << config << ": " << w;
+        ++checked;
+      }
+    }
+  EXPECT_GT(checked, 10);
 }
 
 TEST(CandidateApplicability, SingleFlagellumTrackSwimsTwiceAsFarAtTwiceTheRate) {

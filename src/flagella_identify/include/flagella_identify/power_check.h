@@ -53,7 +53,8 @@ constexpr int kSuggestionRates = 12;
 constexpr int kSuggestionsPerCandidate = 3;
 
 /// The weakest realistic strength of a candidate on the robot of this baseline config (each
-/// TypicalStrength's low end), empty if it has none.
+/// TypicalStrength's end nearer the variable's off value, in its fit coordinate; the low end
+/// where the candidate gives no off value), empty if it has none.
 std::vector<double> weakestTypicalStrength(const Candidate& c, const YAML::Node& baseline);
 
 /// The power check of `candidate` against the calibrated baseline `baseline` (free parameters
