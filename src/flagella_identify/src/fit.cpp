@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "minimise_one_dimension.h"
+#include "text_format.h"
 
 namespace flagella {
 namespace identify {
@@ -334,7 +335,7 @@ std::vector<std::string> offTheMap(const std::vector<FitParameter>& parameters) 
 void validateFitOptions(const FitOptions& o) {
   auto refuse = [](const char* field, const char* range, double got) {
     throw std::invalid_argument(std::string("FitOptions::") + field + " must be " + range +
-                                ", got " + std::to_string(got));
+                                formatted(", got %g", got));
   };
   if (o.max_iterations < 1) refuse("max_iterations", ">= 1", o.max_iterations);
   if (!(o.function_tolerance > 0.0 && o.function_tolerance < 1.0))

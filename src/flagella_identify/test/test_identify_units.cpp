@@ -329,6 +329,15 @@ TEST(FitOptions, BadOptionsAreRefusedNamingTheField) {
       EXPECT_NE(std::string(e.what()).find("FitOptions::" + field), std::string::npos) << e.what();
     }
   }
+  FitOptions negative;
+  negative.max_line_search_trials = -1;
+  try {
+    validateFitOptions(negative);
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("must be >= 0 (0: no line search), got -1"),
+              std::string::npos)
+        << e.what();
+  }
   // fitModel refuses them before any simulation
   const YAML::Node baseline = loadConfigTree(testing::baselinePath(), {});
   const GeneratedCase g =
