@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "calibration_steps.h"
+#include "flagella_control/heading.h"
 #include "flagella_control/validation.h"
 
 namespace flagella::control {
@@ -19,20 +20,51 @@ using calibration_steps::advance;
 using calibration_steps::attitudeOf;
 using calibration_steps::elevationRateOver;
 
-double elevationNow(const SessionDriver& driver) { return elevationOf(attitudeOf(driver).forward); }
-
 // Steps at the cruise until `reached(elevation)`; returns the time taken, or -1 after `timeout`.
+// Each step's direction of travel goes to `hold` (if given) at the time since the call.
 double timeUntil(SessionDriver& driver, double cruise_omega, double timeout,
-                 const std::function<bool(double)>& reached) {
+                 const std::function<bool(double)>& reached, HeldAttitudeWindow* hold = nullptr) {
   const long steps = std::lround(timeout / driver.dt());
   for (long k = 1; k <= steps; ++k) {
     driver.step(cruise_omega);
-    if (reached(elevationNow(driver))) return k * driver.dt();
+    const Vec3 forward = attitudeOf(driver).forward;
+    if (hold) hold->add(k * driver.dt(), forward);
+    if (reached(elevationOf(forward))) return k * driver.dt();
   }
   return -1.0;
 }
 
+// Least-squares slope of y over t (n >= 2 distinct times).
+double slope(const std::vector<double>& t, const std::vector<double>& y) {
+  double st = 0, sy = 0, stt = 0, sty = 0;
+  const double n = static_cast<double>(t.size());
+  for (size_t i = 0; i < t.size(); ++i)
+    st += t[i], sy += y[i], stt += t[i] * t[i], sty += t[i] * y[i];
+  return (n * sty - st * sy) / (n * stt - st * st);
+}
+
 }  // namespace
+
+void HeldAttitudeWindow::add(double t, const Vec3& forward) {
+  double azimuth = azimuthOf(forward);
+  // unwrapped: the nearest turn of the previous sample's azimuth
+  if (!samples_.empty())
+    azimuth = samples_.back().azimuth + wrapAngle(azimuth - samples_.back().azimuth);
+  samples_.push_back({t, elevationOf(forward), azimuth});
+  while (samples_.front().t < t - window_) samples_.pop_front();
+}
+
+void HeldAttitudeWindow::fit(double& elevation, double& elevation_rate,
+                             double& azimuth_rate) const {
+  elevation = elevation_rate = azimuth_rate = 0.0;
+  if (samples_.size() < 2) return;
+  std::vector<double> t, e, a;
+  for (const Sample& s : samples_)
+    t.push_back(s.t), e.push_back(s.elevation), a.push_back(s.azimuth);
+  for (double x : e) elevation += x / static_cast<double>(e.size());
+  elevation_rate = slope(t, e);
+  azimuth_rate = slope(t, a);
+}
 
 void SteeringTableOptions::validate() const {
   for (double f : pulse_factors) requireInRange(kTable, "pulse_factors", f, 1.0 + 1e-9, 20.0);
@@ -45,6 +77,7 @@ void SteeringTableOptions::validate() const {
   }
   requireInRange(kTable, "flip_elevation", flip_elevation, 1e-3, M_PI / 2 - 1e-3);
   requirePositive(kTable, "flip_timeout", flip_timeout, "s");
+  requireInRange(kTable, "hold_window", hold_window, 1e-3, 600.0);
 }
 
 std::vector<BuckleTurnRow> measureBuckleTurnTable(
@@ -101,8 +134,11 @@ std::vector<SliderResponseRow> measureSliderTable(
     driver.commandSlider(clampTravel(calibration.park_position + offset));
     row.pitch_rate = elevationRateOver(driver, options.pitch_window, cruise);
     const double sign = row.pitch_rate >= 0.0 ? 1.0 : -1.0;
-    const double flip = timeUntil(driver, cruise, table.flip_timeout,
-                                  [&](double e) { return sign * e >= table.flip_elevation; });
+    HeldAttitudeWindow hold(table.hold_window);
+    const double flip = timeUntil(
+        driver, cruise, table.flip_timeout,
+        [&](double e) { return sign * e >= table.flip_elevation; }, &hold);
+    hold.fit(row.end_elevation, row.end_elevation_rate, row.azimuth_rate);
     row.flip_time = flip < 0.0 ? -1.0 : options.pitch_window + flip;
     if (flip >= 0.0) {
       driver.commandSlider(clampTravel(calibration.park_position - offset));
@@ -114,7 +150,9 @@ std::vector<SliderResponseRow> measureSliderTable(
       progress("slider table: offset " + std::to_string(offset * 1e3) + " mm: pitch rate " +
                std::to_string(row.pitch_rate * kDeg) + " deg/s, flip " +
                std::to_string(row.flip_time) + " s, return " + std::to_string(row.return_time) +
-               " s");
+               " s; end of hold: elevation " + std::to_string(row.end_elevation * kDeg) +
+               " deg at " + std::to_string(row.end_elevation_rate * kDeg) + " deg/s, azimuth " +
+               std::to_string(row.azimuth_rate * kDeg) + " deg/s");
   }
   return rows;
 }
@@ -134,10 +172,12 @@ void writeBuckleTurnTable(const std::vector<BuckleTurnRow>& rows, const std::str
 void writeSliderTable(const std::vector<SliderResponseRow>& rows, const std::string& path) {
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write " + path);
-  out << "offset_mm,pitch_rate_deg_s,flip_time_s,return_time_s\n";
+  out << "offset_mm,pitch_rate_deg_s,flip_time_s,return_time_s,end_elevation_deg,"
+         "end_elevation_rate_deg_s,azimuth_rate_deg_s\n";
   for (const SliderResponseRow& r : rows)
     out << r.offset * 1e3 << ',' << r.pitch_rate * kDeg << ',' << r.flip_time << ','
-        << r.return_time << '\n';
+        << r.return_time << ',' << r.end_elevation * kDeg << ',' << r.end_elevation_rate * kDeg
+        << ',' << r.azimuth_rate * kDeg << '\n';
 }
 
 }  // namespace flagella::control

@@ -40,6 +40,7 @@ TEST(SteeringTables, PitchRateIsOddAndLinearInTheSliderOffset) {
   table.flip_timeout = 80.0;
   const auto rows = fc::measureSliderTable(config, c, table, options);
   ASSERT_EQ(rows.size(), 3u);
+
   const double up = rows[0].pitch_rate, down = rows[1].pitch_rate, twice = rows[2].pitch_rate;
   RecordProperty("pitch_rate_deg_s", std::to_string(up * 180 / M_PI));
   EXPECT_GT(std::abs(up), 0.2 * M_PI / 180);  // a couple that pitches by tenths of deg/s at least
@@ -50,12 +51,53 @@ TEST(SteeringTables, PitchRateIsOddAndLinearInTheSliderOffset) {
   ASSERT_GT(rows[2].flip_time, 0.0);
   EXPECT_LT(rows[2].flip_time, rows[0].flip_time);
   EXPECT_GT(rows[0].return_time, 0.0);
+  // Held off level the axis's azimuth precesses. Turned by pi about the direction of travel, the
+  // neutrally buoyant robot with the opposite offset is the same robot with gravity's couple
+  // unchanged: its elevation and its azimuth rate change sign, so the rates are odd in the offset.
+  const double az_up = rows[0].azimuth_rate, az_down = rows[1].azimuth_rate;
+  RecordProperty("azimuth_rate_deg_s", std::to_string(az_up * 180 / M_PI));
+  EXPECT_GT(std::abs(az_up), 0.2 * M_PI / 180);
+  EXPECT_NEAR(az_down, -az_up, 0.1 * std::abs(az_up));
+  // The hold of a flipped row ends at the flip: its last window rises toward flip_elevation.
+  for (const auto& r : {rows[0], rows[2]}) {
+    EXPECT_GT(r.end_elevation, 0.0);
+    EXPECT_LT(r.end_elevation, table.flip_elevation);
+    EXPECT_GT(r.end_elevation_rate, 0.0);
+  }
   flagella::testing::TempDir dir;
   fc::writeSliderTable(rows, (dir.path() / "slider.csv").string());
   std::ifstream in((dir.path() / "slider.csv").string());
   std::string header;
   std::getline(in, header);
-  EXPECT_EQ(header, "offset_mm,pitch_rate_deg_s,flip_time_s,return_time_s");
+  EXPECT_EQ(header,
+            "offset_mm,pitch_rate_deg_s,flip_time_s,return_time_s,end_elevation_deg,"
+            "end_elevation_rate_deg_s,azimuth_rate_deg_s");
+}
+
+// The held attitude's window against a closed form: an axis whose azimuth turns at a constant
+// rate through +-pi (unwrapped) while its elevation rises linearly; samples older than the
+// window (a first stretch turning the other way) are dropped.
+TEST(SteeringTables, HeldAttitudeWindowFitsLinearRatesAcrossTheAzimuthWrap) {
+  fc::HeldAttitudeWindow window(10.0);
+  const double dt = 0.01, rate = -0.7, e0 = 0.3, e_rate = 0.01;
+  const auto direction = [](double azimuth, double elevation) {
+    return fc::directionFrom(azimuth, elevation);
+  };
+  for (int k = 0; k <= 1000; ++k)  // t = 0..10 s: azimuth turning left, to be dropped
+    window.add(k * dt, direction(2.5 + 0.4 * k * dt, e0));
+  const double start = 2.5 + 0.4 * 10.0;
+  for (int k = 1; k <= 2000; ++k) {  // t = 10..30 s: right at 0.7 rad/s, through -pi several times
+    const double t = 10.0 + k * dt;
+    window.add(t, direction(start + rate * (t - 10.0), e0 + e_rate * (t - 10.0)));
+  }
+  double elevation = 0, elevation_rate = 0, azimuth_rate = 0;
+  window.fit(elevation, elevation_rate, azimuth_rate);
+  EXPECT_NEAR(azimuth_rate, rate, 1e-9);
+  EXPECT_NEAR(elevation_rate, e_rate, 1e-9);
+  EXPECT_NEAR(elevation, e0 + e_rate * 15.0, 1e-3);  // mean over t = 20..30 s
+  fc::HeldAttitudeWindow empty(10.0);
+  empty.fit(elevation, elevation_rate, azimuth_rate);
+  EXPECT_EQ(azimuth_rate, 0.0);
 }
 
 TEST(SteeringTables, BadOptionsAreNamed) {
@@ -74,6 +116,14 @@ TEST(SteeringTables, BadOptionsAreNamed) {
   t.pulse_factors = {2.0};
   t.pulse_durations = {};
   EXPECT_THROW(t.validate(), std::invalid_argument);
+  t.pulse_factors = {};
+  t.hold_window = 0.0;
+  try {
+    t.validate();
+    FAIL() << "a hold window of 0 s was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("hold_window"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -68,7 +68,8 @@ void addTableOptions(CLI::App& app, CalibrateArgs& a) {
   turn->needs(app.get_option("--pulse-factors"))->needs(app.get_option("--pulse-durations"));
   auto* slider = app.add_option("--slider-table", a.slider_table,
                                 "also write the slider's response (pitch rate, flip and return "
-                                "times) against its offset from park to this CSV");
+                                "times, held elevation and azimuth rate) against its offset "
+                                "from park to this CSV");
   app.add_option("--slider-offsets", a.tables.slider_offsets,
                  "slider table: offsets from the park position [m], e.g. 5e-4,-5e-4,2e-3")
       ->delimiter(',')
@@ -78,6 +79,10 @@ void addTableOptions(CLI::App& app, CalibrateArgs& a) {
                  "slider table: |head axis elevation| that counts as flipped [deg]")
       ->capture_default_str();
   app.add_option("--flip-timeout", a.tables.flip_timeout, "slider table: per flip or return [s]")
+      ->capture_default_str();
+  app.add_option("--hold-window", a.tables.hold_window,
+                 "slider table: the end of the hold (to the flip or the timeout) over which the "
+                 "held elevation and the azimuth rate are fitted [s]")
       ->capture_default_str();
 }
 

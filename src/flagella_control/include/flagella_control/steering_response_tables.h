@@ -3,13 +3,16 @@
 // buckle cycle against the pulse's rate and duration, for both schedules, with its phase law;
 // and the slider's response against its offset from the park position: the initial pitch rate,
 // the time to flip from level cruise to near vertical, and the time to come back level with the
-// opposite offset.
+// opposite offset; and what the slider held there does at the end of the hold: the elevation the
+// head axis holds (or passes) and the rate at which its azimuth precesses.
 #pragma once
 
+#include <deque>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "flagella_control/head_attitude.h"
 #include "flagella_control/steering_calibration.h"
 #include "flagella_control/steering_calibration_runner.h"
 #include "flagella_sim/simulation/simulation_config.h"
@@ -22,6 +25,7 @@ struct SteeringTableOptions {
   std::vector<double> slider_offsets;   ///< from the park position [m], each != 0 (sign kept)
   double flip_elevation = 80.0 * M_PI / 180.0;  ///< |elevation of the head axis| counted as a flip
   double flip_timeout = 120.0;                  ///< [s] per flip or return
+  double hold_window = 20.0;  ///< [s] the end of the hold over which the held attitude is fitted
   /// Throws std::invalid_argument naming the field and its range.
   void validate() const;
 };
@@ -38,6 +42,29 @@ struct SliderResponseRow {
   double pitch_rate = 0.0;    ///< initial rate of the head axis's elevation (least squares) [rad/s]
   double flip_time = -1.0;    ///< to |elevation| >= flip_elevation [s]; -1: not within the timeout
   double return_time = -1.0;  ///< then, slider at -offset, back through level [s]; -1: not
+  /// Over the last hold_window of the hold (which ends at the flip or at flip_timeout): the
+  /// head axis's mean elevation, its elevation rate (near 0: held) and its azimuth rate
+  /// (positive to the left, seen from above) [rad, rad/s].
+  double end_elevation = 0.0, end_elevation_rate = 0.0, azimuth_rate = 0.0;
+};
+
+/// The head axis's attitude over a trailing window of samples: mean elevation and the
+/// least-squares rates of elevation and of the azimuth, unwrapped across +-pi.
+class HeldAttitudeWindow {
+ public:
+  explicit HeldAttitudeWindow(double window) : window_(window) {}
+  /// Adds the direction of travel at time t (increasing); drops samples older than the window.
+  void add(double t, const Vec3& forward);
+  /// Mean elevation, elevation rate and azimuth rate over the samples kept; zeros for fewer
+  /// than two samples.
+  void fit(double& elevation, double& elevation_rate, double& azimuth_rate) const;
+
+ private:
+  struct Sample {
+    double t, elevation, azimuth;
+  };
+  double window_;
+  std::deque<Sample> samples_;
 };
 
 /// Both schedules at every (factor, duration) pair, with `calibration`'s threshold and cruise
@@ -49,8 +76,8 @@ std::vector<BuckleTurnRow> measureBuckleTurnTable(
     const std::function<void(const std::string&)>& progress = {});
 
 /// One run per offset from `calibration`'s park position at its cruise: settle, command the
-/// offset, fit the pitch rate over options.pitch_window, time the flip, command the opposite
-/// offset and time the return.
+/// offset, fit the pitch rate over options.pitch_window, time the flip (fitting the held attitude
+/// over the hold's last table.hold_window), command the opposite offset and time the return.
 std::vector<SliderResponseRow> measureSliderTable(
     const flagella::SimulationConfig& config, const SteeringCalibration& calibration,
     const SteeringTableOptions& table, const SteeringCalibrationOptions& options,
