@@ -50,6 +50,8 @@ void HeldAttitudeWindow::add(double t, const Vec3& forward) {
   // unwrapped: the nearest turn of the previous sample's azimuth
   if (!samples_.empty())
     azimuth = samples_.back().azimuth + wrapAngle(azimuth - samples_.back().azimuth);
+  else
+    first_ = azimuth;
   samples_.push_back({t, elevationOf(forward), azimuth});
   while (samples_.front().t < t - window_) samples_.pop_front();
 }
@@ -139,12 +141,13 @@ std::vector<SliderResponseRow> measureSliderTable(
         driver, cruise, table.flip_timeout,
         [&](double e) { return sign * e >= table.flip_elevation; }, &hold);
     hold.fit(row.end_elevation, row.end_elevation_rate, row.azimuth_rate);
+    row.hold_turn = hold.azimuthChange();  // from the end of the pitch window
     row.flip_time = flip < 0.0 ? -1.0 : options.pitch_window + flip;
-    if (flip >= 0.0) {
-      driver.commandSlider(clampTravel(calibration.park_position - offset));
-      row.return_time =
-          timeUntil(driver, cruise, table.flip_timeout, [&](double e) { return sign * e <= 0.0; });
-    }
+    driver.commandSlider(clampTravel(calibration.park_position - offset));
+    HeldAttitudeWindow back(table.flip_timeout);
+    row.return_time = timeUntil(
+        driver, cruise, table.flip_timeout, [&](double e) { return sign * e <= 0.0; }, &back);
+    row.return_turn = back.azimuthChange();
     rows.push_back(row);
     if (progress)
       progress("slider table: offset " + std::to_string(offset * 1e3) + " mm: pitch rate " +
@@ -152,7 +155,9 @@ std::vector<SliderResponseRow> measureSliderTable(
                std::to_string(row.flip_time) + " s, return " + std::to_string(row.return_time) +
                " s; end of hold: elevation " + std::to_string(row.end_elevation * kDeg) +
                " deg at " + std::to_string(row.end_elevation_rate * kDeg) + " deg/s, azimuth " +
-               std::to_string(row.azimuth_rate * kDeg) + " deg/s");
+               std::to_string(row.azimuth_rate * kDeg) + " deg/s; azimuth turned " +
+               std::to_string(row.hold_turn * kDeg) + " deg holding, " +
+               std::to_string(row.return_turn * kDeg) + " deg returning");
   }
   return rows;
 }
@@ -173,11 +178,12 @@ void writeSliderTable(const std::vector<SliderResponseRow>& rows, const std::str
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write " + path);
   out << "offset_mm,pitch_rate_deg_s,flip_time_s,return_time_s,end_elevation_deg,"
-         "end_elevation_rate_deg_s,azimuth_rate_deg_s\n";
+         "end_elevation_rate_deg_s,azimuth_rate_deg_s,hold_turn_deg,return_turn_deg\n";
   for (const SliderResponseRow& r : rows)
     out << r.offset * 1e3 << ',' << r.pitch_rate * kDeg << ',' << r.flip_time << ','
         << r.return_time << ',' << r.end_elevation * kDeg << ',' << r.end_elevation_rate * kDeg
-        << ',' << r.azimuth_rate * kDeg << '\n';
+        << ',' << r.azimuth_rate * kDeg << ',' << r.hold_turn * kDeg << ',' << r.return_turn * kDeg
+        << '\n';
 }
 
 }  // namespace flagella::control

@@ -58,6 +58,11 @@ TEST(SteeringTables, PitchRateIsOddAndLinearInTheSliderOffset) {
   RecordProperty("azimuth_rate_deg_s", std::to_string(az_up * 180 / M_PI));
   EXPECT_GT(std::abs(az_up), 0.2 * M_PI / 180);
   EXPECT_NEAR(az_down, -az_up, 0.1 * std::abs(az_up));
+  // So are the azimuth's turns over the hold and over the return (the opposite offset).
+  EXPECT_GT(std::abs(rows[0].hold_turn), 0.1);
+  EXPECT_NEAR(rows[1].hold_turn, -rows[0].hold_turn, 0.1 * std::abs(rows[0].hold_turn));
+  EXPECT_NEAR(rows[1].return_turn, -rows[0].return_turn, 0.1 * std::abs(rows[0].return_turn));
+  for (const auto& r : rows) EXPECT_GT(r.return_time, 0.0);  // every row comes back level
   // The hold of a flipped row ends at the flip: its last window rises toward flip_elevation.
   for (const auto& r : {rows[0], rows[2]}) {
     EXPECT_GT(r.end_elevation, 0.0);
@@ -71,7 +76,7 @@ TEST(SteeringTables, PitchRateIsOddAndLinearInTheSliderOffset) {
   std::getline(in, header);
   EXPECT_EQ(header,
             "offset_mm,pitch_rate_deg_s,flip_time_s,return_time_s,end_elevation_deg,"
-            "end_elevation_rate_deg_s,azimuth_rate_deg_s");
+            "end_elevation_rate_deg_s,azimuth_rate_deg_s,hold_turn_deg,return_turn_deg");
 }
 
 // The held attitude's window against a closed form: an axis whose azimuth turns at a constant
@@ -94,7 +99,8 @@ TEST(SteeringTables, HeldAttitudeWindowFitsLinearRatesAcrossTheAzimuthWrap) {
   window.fit(elevation, elevation_rate, azimuth_rate);
   EXPECT_NEAR(azimuth_rate, rate, 1e-9);
   EXPECT_NEAR(elevation_rate, e_rate, 1e-9);
-  EXPECT_NEAR(elevation, e0 + e_rate * 15.0, 1e-3);  // mean over t = 20..30 s
+  EXPECT_NEAR(elevation, e0 + e_rate * 15.0, 1e-3);                     // mean over t = 20..30 s
+  EXPECT_NEAR(window.azimuthChange(), 0.4 * 10.0 + rate * 20.0, 1e-9);  // from the first sample
   fc::HeldAttitudeWindow empty(10.0);
   empty.fit(elevation, elevation_rate, azimuth_rate);
   EXPECT_EQ(azimuth_rate, 0.0);

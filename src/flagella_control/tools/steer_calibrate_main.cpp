@@ -68,8 +68,8 @@ void addTableOptions(CLI::App& app, CalibrateArgs& a) {
   turn->needs(app.get_option("--pulse-factors"))->needs(app.get_option("--pulse-durations"));
   auto* slider = app.add_option("--slider-table", a.slider_table,
                                 "also write the slider's response (pitch rate, flip and return "
-                                "times, held elevation and azimuth rate) against its offset "
-                                "from park to this CSV");
+                                "times, held elevation, azimuth rate, azimuth turned holding "
+                                "and returning) against its offset from park to this CSV");
   app.add_option("--slider-offsets", a.tables.slider_offsets,
                  "slider table: offsets from the park position [m], e.g. 5e-4,-5e-4,2e-3")
       ->delimiter(',')

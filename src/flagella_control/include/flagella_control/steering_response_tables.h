@@ -36,12 +36,15 @@ struct BuckleTurnRow {
   BuckleSchedule relax, three_level;
 };
 
-/// The slider held `offset` from the park position, from level cruise.
+/// The slider held `offset` from the park position, from level cruise, then the opposite offset.
 struct SliderResponseRow {
   double offset = 0.0;        ///< [m]
   double pitch_rate = 0.0;    ///< initial rate of the head axis's elevation (least squares) [rad/s]
   double flip_time = -1.0;    ///< to |elevation| >= flip_elevation [s]; -1: not within the timeout
   double return_time = -1.0;  ///< then, slider at -offset, back through level [s]; -1: not
+  /// Change of the head axis's azimuth (unwrapped, positive to the left) over the hold (after the
+  /// pitch-rate window) and over the return [rad].
+  double hold_turn = 0.0, return_turn = 0.0;
   /// Over the last hold_window of the hold (which ends at the flip or at flip_timeout): the
   /// head axis's mean elevation, its elevation rate (near 0: held) and its azimuth rate
   /// (positive to the left, seen from above) [rad, rad/s].
@@ -58,12 +61,15 @@ class HeldAttitudeWindow {
   /// Mean elevation, elevation rate and azimuth rate over the samples kept; zeros for fewer
   /// than two samples.
   void fit(double& elevation, double& elevation_rate, double& azimuth_rate) const;
+  /// Unwrapped azimuth of the last sample less that of the first ever added (0 if none).
+  double azimuthChange() const { return samples_.empty() ? 0.0 : samples_.back().azimuth - first_; }
 
  private:
   struct Sample {
     double t, elevation, azimuth;
   };
   double window_;
+  double first_ = 0.0;  ///< unwrapped azimuth of the first sample
   std::deque<Sample> samples_;
 };
 
@@ -77,7 +83,8 @@ std::vector<BuckleTurnRow> measureBuckleTurnTable(
 
 /// One run per offset from `calibration`'s park position at its cruise: settle, command the
 /// offset, fit the pitch rate over options.pitch_window, time the flip (fitting the held attitude
-/// over the hold's last table.hold_window), command the opposite offset and time the return.
+/// over the hold's last table.hold_window), then, flipped or not, command the opposite offset
+/// and time the return through level.
 std::vector<SliderResponseRow> measureSliderTable(
     const flagella::SimulationConfig& config, const SteeringCalibration& calibration,
     const SteeringTableOptions& table, const SteeringCalibrationOptions& options,
