@@ -33,17 +33,23 @@ void advance(SessionDriver& driver, double seconds, const Rate& omega, Vec3& sum
   }
 }
 
+/// The least-squares slope of y against t, accumulated sample by sample (two distinct t at least).
+struct SlopeFit {
+  double n = 0, st = 0, sy = 0, stt = 0, sty = 0;
+  void add(double t, double y) { n += 1, st += t, sy += y, stt += t * t, sty += t * y; }
+  double slope() const { return (n * sty - st * sy) / (n * stt - st * st); }
+};
+
 /// Steps `seconds` at the constant rate `omega` and returns the least-squares slope of the
 /// elevation of the head's forward direction over them [rad/s].
 inline double elevationRateOver(SessionDriver& driver, double seconds, double omega) {
-  double st = 0, se = 0, stt = 0, ste = 0;
+  SlopeFit fit;
   const long steps = std::lround(seconds / driver.dt());
   for (long k = 1; k <= steps; ++k) {
     driver.step(omega);
-    const double t = k * driver.dt(), e = elevationOf(attitudeOf(driver).forward);
-    st += t, se += e, stt += t * t, ste += t * e;
+    fit.add(k * driver.dt(), elevationOf(attitudeOf(driver).forward));
   }
-  return (steps * ste - st * se) / (steps * stt - st * st);
+  return fit.slope();
 }
 
 }  // namespace flagella::control::calibration_steps

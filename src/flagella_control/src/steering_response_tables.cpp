@@ -34,15 +34,6 @@ double timeUntil(SessionDriver& driver, double cruise_omega, double timeout,
   return -1.0;
 }
 
-// Least-squares slope of y over t (n >= 2 distinct times).
-double slope(const std::vector<double>& t, const std::vector<double>& y) {
-  double st = 0, sy = 0, stt = 0, sty = 0;
-  const double n = static_cast<double>(t.size());
-  for (size_t i = 0; i < t.size(); ++i)
-    st += t[i], sy += y[i], stt += t[i] * t[i], sty += t[i] * y[i];
-  return (n * sty - st * sy) / (n * stt - st * st);
-}
-
 }  // namespace
 
 void HeldAttitudeWindow::add(double t, const Vec3& forward) {
@@ -60,12 +51,14 @@ void HeldAttitudeWindow::fit(double& elevation, double& elevation_rate,
                              double& azimuth_rate) const {
   elevation = elevation_rate = azimuth_rate = 0.0;
   if (samples_.size() < 2) return;
-  std::vector<double> t, e, a;
-  for (const Sample& s : samples_)
-    t.push_back(s.t), e.push_back(s.elevation), a.push_back(s.azimuth);
-  for (double x : e) elevation += x / static_cast<double>(e.size());
-  elevation_rate = slope(t, e);
-  azimuth_rate = slope(t, a);
+  calibration_steps::SlopeFit elevation_fit, azimuth_fit;
+  for (const Sample& s : samples_) {
+    elevation += s.elevation / static_cast<double>(samples_.size());
+    elevation_fit.add(s.t, s.elevation);
+    azimuth_fit.add(s.t, s.azimuth);
+  }
+  elevation_rate = elevation_fit.slope();
+  azimuth_rate = azimuth_fit.slope();
 }
 
 void SteeringTableOptions::validate() const {

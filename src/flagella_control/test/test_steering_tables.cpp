@@ -40,7 +40,6 @@ TEST(SteeringTables, PitchRateIsOddAndLinearInTheSliderOffset) {
   table.flip_timeout = 80.0;
   const auto rows = fc::measureSliderTable(config, c, table, options);
   ASSERT_EQ(rows.size(), 3u);
-
   const double up = rows[0].pitch_rate, down = rows[1].pitch_rate, twice = rows[2].pitch_rate;
   RecordProperty("pitch_rate_deg_s", std::to_string(up * 180 / M_PI));
   EXPECT_GT(std::abs(up), 0.2 * M_PI / 180);  // a couple that pitches by tenths of deg/s at least
