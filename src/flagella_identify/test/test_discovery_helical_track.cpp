@@ -1,5 +1,6 @@
 // Discovery on the helical robot's 3-D head track
-// (config/identification/helical_shore32_coarse.yaml), the fast case of the bench's helical series
+// (config/identification/helical_shore32_coarse.yaml on 30 mm edges,
+// support/helical_test_baseline.h), the fast case of the bench's helical series
 // cases: a head close to a free surface (interface_lateral_force at the weak end of its
 // single-flagellum range) hidden in a track at two motor rates below the threshold, the head's drag
 // factors also off by 15 %. The tool gets only the data and the baseline config; it must name the
@@ -16,12 +17,14 @@
 #include "flagella_identify/discovery_cases.h"
 #include "flagella_identify/identify.h"
 #include "flagella_identify/model.h"
+#include "support/helical_test_baseline.h"
 
 namespace flagella {
 namespace identify {
 namespace {
 
-const std::string kBaseline = FLAGELLA_CONFIG_DIR "/identification/helical_shore32_coarse.yaml";
+using testing::fastHelicalBaseline;
+using testing::helicalBaselinePath;
 
 /// 30 s of track: 15 s at 40 rpm, then 15 s at 80 rpm (below the threshold), video, IMU and
 /// counted turns with the bench's noise.
@@ -38,7 +41,7 @@ SeriesPlan fastTrack() {
 
 /// The baseline with its head's drag factors off by 15 % (C_t high, C_r low).
 Model perturbedBaseline(const YAML::Node& baseline) {
-  Model truth(baseline, kBaseline, caseFreeParameters(baseline));
+  Model truth(baseline, helicalBaselinePath(), caseFreeParameters(baseline));
   std::vector<double> values = truth.values();
   values[static_cast<size_t>(truth.indexOf("effects.stokes_head.C_t"))] *= 1.15;
   values[static_cast<size_t>(truth.indexOf("effects.stokes_head.C_r"))] *= 0.85;
@@ -53,14 +56,14 @@ IdentifyResult identify(const TimeSeries& track, const YAML::Node& baseline) {
   options.free = caseFreeParameters(baseline);
   options.candidates = {"interface_lateral_force", "com_offset"};
   options.evaluator.jobs = 1;  // ctest runs the suites side by side
-  Identification identification(data, baseline, kBaseline, options);
+  Identification identification(data, baseline, helicalBaselinePath(), options);
   const IdentifyResult r = identification.run();
   std::cout << verdictText(r.verdict) << ": " << r.summary << std::endl;
   return r;
 }
 
 TEST(DiscoveryHelicalTrack, SurfaceForceNamedOnAHeadTrack) {
-  const YAML::Node baseline = loadConfigTree(kBaseline, {});
+  const YAML::Node baseline = fastHelicalBaseline();
   Model truth = perturbedBaseline(baseline);
   const Candidate& surface = candidateByName("interface_lateral_force");
   truth.addCandidate(surface);
@@ -77,7 +80,7 @@ TEST(DiscoveryHelicalTrack, SurfaceForceNamedOnAHeadTrack) {
 }
 
 TEST(DiscoveryHelicalTrack, NothingNamedOnATrackWithNothingHidden) {
-  const YAML::Node baseline = loadConfigTree(kBaseline, {});
+  const YAML::Node baseline = fastHelicalBaseline();
   const IdentifyResult r =
       identify(generateSeries(perturbedBaseline(baseline), fastTrack(), 6), baseline);
   EXPECT_EQ(r.verdict, Verdict::kNoDiscrepancy) << r.summary;
