@@ -1,13 +1,13 @@
 // Discovery on the helical robot's 3-D head track
 // (config/identification/helical_shore32_coarse.yaml on 30 mm edges,
-// support/helical_test_baseline.h), the fast case of the bench's helical series
-// cases: a head close to a free surface (interface_lateral_force at the weak end of its
-// single-flagellum range) hidden in a track at two motor rates below the threshold, the head's drag
-// factors also off by 15 %. The tool gets only the data and the baseline config; it must name the
-// surface force and not the competing gravity couple of a centre-of-mass offset, which also bends
-// the track (the tail weight, a third candidate of this kind, would double the test's time). On a
-// track with nothing hidden it must name nothing. The full cases (40 s tracks, every candidate,
-// the effect outside the list) run in flagella_discovery_bench.
+// support/helical_test_baseline.h), the fast cases of the bench's helical series cases: one effect
+// hidden at the weak end of its single-flagellum range in a track at two motor rates below the
+// threshold, the head's drag factors also off by 15 %. The tool gets only the data and the baseline
+// config; it must name the hidden effect and not its competitor, which also bends the track: a head
+// close to a free surface (interface_lateral_force) against the gravity couple of a centre-of-mass
+// offset, and the other way round; a flagellum denser than the liquid (tail_weight) against the COM
+// offset. On a track with nothing hidden it must name nothing. The full cases (40 s tracks, every
+// candidate, the effect outside the list) run in flagella_discovery_bench.
 #include <gtest/gtest.h>
 
 #include <iostream>
@@ -49,12 +49,14 @@ Model perturbedBaseline(const YAML::Node& baseline) {
   return truth;
 }
 
-IdentifyResult identify(const TimeSeries& track, const YAML::Node& baseline) {
+IdentifyResult identify(const TimeSeries& track, const YAML::Node& baseline,
+                        const std::vector<std::string>& candidates = {"interface_lateral_force",
+                                                                      "com_offset"}) {
   MeasuredData data;
   data.series.push_back(track);
   IdentifyOptions options;
   options.free = caseFreeParameters(baseline);
-  options.candidates = {"interface_lateral_force", "com_offset"};
+  options.candidates = candidates;
   options.evaluator.jobs = 1;  // ctest runs the suites side by side
   Identification identification(data, baseline, helicalBaselinePath(), options);
   const IdentifyResult r = identification.run();
@@ -62,21 +64,52 @@ IdentifyResult identify(const TimeSeries& track, const YAML::Node& baseline) {
   return r;
 }
 
+/// The perturbed baseline with the candidate `name` hidden at the weak end of its realistic
+/// strength on this robot.
+Model withHiddenEffect(const YAML::Node& baseline, const std::string& name) {
+  Model truth = perturbedBaseline(baseline);
+  const Candidate& effect = candidateByName(name);
+  truth.addCandidate(effect);
+  std::vector<double> values = truth.values();
+  const std::vector<TypicalStrength>& typical = typicalStrengths(effect, baseline);
+  EXPECT_EQ(typical.size(), 1u) << name;
+  values[static_cast<size_t>(truth.indexOf(typical.at(0).variable))] = typical.at(0).low;
+  truth.setValues(values);
+  return truth;
+}
+
 TEST(DiscoveryHelicalTrack, SurfaceForceNamedOnAHeadTrack) {
   const YAML::Node baseline = fastHelicalBaseline();
-  Model truth = perturbedBaseline(baseline);
-  const Candidate& surface = candidateByName("interface_lateral_force");
-  truth.addCandidate(surface);
-  std::vector<double> values = truth.values();
-  const std::vector<TypicalStrength>& typical = typicalStrengths(surface, baseline);
-  ASSERT_EQ(typical.size(), 1u);
-  values[static_cast<size_t>(truth.indexOf(typical[0].variable))] = typical[0].low;
-  truth.setValues(values);
-
+  const Model truth = withHiddenEffect(baseline, "interface_lateral_force");
   const IdentifyResult r = identify(generateSeries(truth, fastTrack(), 5), baseline);
   EXPECT_EQ(r.verdict, Verdict::kNamedCause) << r.summary;
   EXPECT_EQ(r.named, std::vector<std::string>{"interface_lateral_force"}) << r.summary;
   EXPECT_GE(r.gain, 0.5) << r.summary;
+}
+
+// The converse: a centre-of-mass offset hidden, the surface force the competitor.
+TEST(DiscoveryHelicalTrack, ComOffsetNamedOnAHeadTrack) {
+  const YAML::Node baseline = fastHelicalBaseline();
+  const Model truth = withHiddenEffect(baseline, "com_offset");
+  const IdentifyResult r = identify(generateSeries(truth, fastTrack(), 7), baseline);
+  EXPECT_EQ(r.verdict, Verdict::kNamedCause) << r.summary;
+  EXPECT_EQ(r.named, std::vector<std::string>{"com_offset"}) << r.summary;
+  EXPECT_GE(r.gain, 0.5) << r.summary;
+}
+
+// A flagellum denser than the liquid (its weight, docs/model.md 7.6) hidden, the COM offset's
+// gravity couple the competitor. At the weak end of its strength the baseline misses by little
+// (held-out RMS z about 1.5), so the held-out gain cannot reach the other cases' 50 %: the test
+// asks instead that the named model leaves only the noise (its noise test not significant).
+TEST(DiscoveryHelicalTrack, TailWeightNamedOnAHeadTrack) {
+  const YAML::Node baseline = fastHelicalBaseline();
+  const Model truth = withHiddenEffect(baseline, "tail_weight");
+  const IdentifyResult r =
+      identify(generateSeries(truth, fastTrack(), 8), baseline, {"tail_weight", "com_offset"});
+  EXPECT_EQ(r.verdict, Verdict::kNamedCause) << r.summary;
+  EXPECT_EQ(r.named, std::vector<std::string>{"tail_weight"}) << r.summary;
+  EXPECT_GT(r.baseline_diagnosis.noise_z, kSignificanceZ) << r.summary;
+  EXPECT_LT(r.chosen_diagnosis.noise_z, kSignificanceZ) << r.summary;
 }
 
 TEST(DiscoveryHelicalTrack, NothingNamedOnATrackWithNothingHidden) {
