@@ -36,7 +36,7 @@ using testing::helicalBaselinePath;
 /// 12 rates of 40-95 rpm (below the threshold; the head turns in 2.3 s or less at 40 rpm, so a
 /// 5 s window spans two turns), the bench's noise. Tried and not kept: 10 rates of 50-95 rpm
 /// with a 2 s settle and a 3 s window: the DC motor's and the hook's identifications had not
-/// ended after 7.7 min of CPU each (3-4 min with this plan).
+/// ended after 7.7 min of CPU each (3-4 min with this plan; both on the config's 15 mm edges).
 TablePlan fastPlan() {
   TablePlan p;
   for (int k = 0; k < 12; ++k) p.omega_rpm.push_back(40.0 + 5.0 * k);

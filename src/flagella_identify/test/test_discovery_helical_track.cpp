@@ -49,9 +49,11 @@ Model perturbedBaseline(const YAML::Node& baseline) {
   return truth;
 }
 
+/// The two candidates that bend a head track sideways (the default competitors).
+const std::vector<std::string> kSurfaceAndCom = {"interface_lateral_force", "com_offset"};
+
 IdentifyResult identify(const TimeSeries& track, const YAML::Node& baseline,
-                        const std::vector<std::string>& candidates = {"interface_lateral_force",
-                                                                      "com_offset"}) {
+                        const std::vector<std::string>& candidates = kSurfaceAndCom) {
   MeasuredData data;
   data.series.push_back(track);
   IdentifyOptions options;
@@ -78,10 +80,16 @@ Model withHiddenEffect(const YAML::Node& baseline, const std::string& name) {
   return truth;
 }
 
-TEST(DiscoveryHelicalTrack, SurfaceForceNamedOnAHeadTrack) {
+/// Identifies a track of the perturbed baseline with `hidden` at the weak end of its strength.
+IdentifyResult identifyHidden(const std::string& hidden, int seed,
+                              const std::vector<std::string>& candidates = kSurfaceAndCom) {
   const YAML::Node baseline = fastHelicalBaseline();
-  const Model truth = withHiddenEffect(baseline, "interface_lateral_force");
-  const IdentifyResult r = identify(generateSeries(truth, fastTrack(), 5), baseline);
+  const Model truth = withHiddenEffect(baseline, hidden);
+  return identify(generateSeries(truth, fastTrack(), seed), baseline, candidates);
+}
+
+TEST(DiscoveryHelicalTrack, SurfaceForceNamedOnAHeadTrack) {
+  const IdentifyResult r = identifyHidden("interface_lateral_force", 5);
   EXPECT_EQ(r.verdict, Verdict::kNamedCause) << r.summary;
   EXPECT_EQ(r.named, std::vector<std::string>{"interface_lateral_force"}) << r.summary;
   EXPECT_GE(r.gain, 0.5) << r.summary;
@@ -89,9 +97,7 @@ TEST(DiscoveryHelicalTrack, SurfaceForceNamedOnAHeadTrack) {
 
 // The converse: a centre-of-mass offset hidden, the surface force the competitor.
 TEST(DiscoveryHelicalTrack, ComOffsetNamedOnAHeadTrack) {
-  const YAML::Node baseline = fastHelicalBaseline();
-  const Model truth = withHiddenEffect(baseline, "com_offset");
-  const IdentifyResult r = identify(generateSeries(truth, fastTrack(), 7), baseline);
+  const IdentifyResult r = identifyHidden("com_offset", 7);
   EXPECT_EQ(r.verdict, Verdict::kNamedCause) << r.summary;
   EXPECT_EQ(r.named, std::vector<std::string>{"com_offset"}) << r.summary;
   EXPECT_GE(r.gain, 0.5) << r.summary;
@@ -102,10 +108,7 @@ TEST(DiscoveryHelicalTrack, ComOffsetNamedOnAHeadTrack) {
 // (held-out RMS z about 1.5), so the held-out gain cannot reach the other cases' 50 %: the test
 // asks instead that the named model leaves only the noise (its noise test not significant).
 TEST(DiscoveryHelicalTrack, TailWeightNamedOnAHeadTrack) {
-  const YAML::Node baseline = fastHelicalBaseline();
-  const Model truth = withHiddenEffect(baseline, "tail_weight");
-  const IdentifyResult r =
-      identify(generateSeries(truth, fastTrack(), 8), baseline, {"tail_weight", "com_offset"});
+  const IdentifyResult r = identifyHidden("tail_weight", 8, {"tail_weight", "com_offset"});
   EXPECT_EQ(r.verdict, Verdict::kNamedCause) << r.summary;
   EXPECT_EQ(r.named, std::vector<std::string>{"tail_weight"}) << r.summary;
   EXPECT_GT(r.baseline_diagnosis.noise_z, kSignificanceZ) << r.summary;

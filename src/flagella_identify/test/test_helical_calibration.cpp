@@ -11,6 +11,7 @@
 #include "flagella_sim/analysis/buckling_probe.h"
 #include "flagella_sim/core/units.h"
 #include "flagella_sim/simulation/simulation.h"
+#include "support/helical_test_baseline.h"
 
 namespace flagella {
 namespace identify {
@@ -22,7 +23,7 @@ namespace {
 /// threshold 9.05 rpm (4.35), its fit 37 s (146 s), eps_ratio recovered to 0.3 % on both; the
 /// head-drag fit 11 s (35 s beside another test).
 YAML::Node coarseConfig(const std::string& name, std::vector<std::string> overrides) {
-  overrides.push_back("robot.edge_length=0.03");
+  overrides.push_back(testing::fastHelixEdges());
   return loadConfigTree(std::string(FLAGELLA_CONFIG_DIR) + "/" + name, overrides);
 }
 

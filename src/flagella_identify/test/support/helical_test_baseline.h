@@ -1,4 +1,4 @@
-// The helical robot the suite's discovery tests use:
+// The helical robot the suite's discovery and calibration tests use:
 // config/identification/helical_shore32_coarse.yaml on edges of 30 mm instead of its 15 mm (about
 // four per turn of the helix). Truth and model share the discretisation, so what the tests check
 // (which effect is named) does not depend on it; the bench runs the same cases on the config's own
@@ -18,8 +18,11 @@ inline std::string helicalBaselinePath() {
   return FLAGELLA_CONFIG_DIR "/identification/helical_shore32_coarse.yaml";
 }
 
+/// The override that makes a helical config the suite's fast helix (edges of 30 mm).
+inline std::string fastHelixEdges() { return "robot.edge_length=0.03"; }
+
 inline YAML::Node fastHelicalBaseline() {
-  return loadConfigTree(helicalBaselinePath(), {"robot.edge_length=0.03"});
+  return loadConfigTree(helicalBaselinePath(), {fastHelixEdges()});
 }
 
 }  // namespace testing
