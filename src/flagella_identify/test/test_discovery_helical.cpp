@@ -20,14 +20,15 @@
 #include "flagella_identify/discovery_cases.h"
 #include "flagella_identify/identify.h"
 #include "flagella_identify/model.h"
-#include "support/helical_test_baseline.h"
+#include "support/helical_identify.h"
 
 namespace flagella {
 namespace identify {
 namespace {
 
 using testing::fastHelicalBaseline;
-using testing::helicalBaselinePath;
+using testing::helicalTruth;
+using testing::identifyHelical;
 
 // On the suite's 30 mm edges (support/helical_test_baseline.h) the soft hook also shows in the
 // tail's rate (the baseline over-predicts omega_t by 1.2 rpm, more so at higher rates), the DC
@@ -50,22 +51,9 @@ TablePlan fastPlan() {
   return p;
 }
 
-/// The baseline (its drag factors the free parameters) with C_t 10 % low and C_r 10 % high,
-/// and `hidden` (if any) added at `strength` of its single variable.
+/// The baseline with C_t 10 % low and C_r 10 % high, and `hidden` (if any) at `strength`.
 Model truthWith(const YAML::Node& baseline, const std::string& hidden = "", double strength = 0.0) {
-  Model truth(baseline, helicalBaselinePath(), caseFreeParameters(baseline));
-  if (!hidden.empty()) truth.addCandidate(candidateByName(hidden));
-  std::vector<double> values = truth.values();
-  values[static_cast<size_t>(truth.indexOf("effects.stokes_head.C_t"))] *= 0.9;
-  values[static_cast<size_t>(truth.indexOf("effects.stokes_head.C_r"))] *= 1.1;
-  if (!hidden.empty()) {
-    const std::vector<TypicalStrength>& typical =
-        typicalStrengths(candidateByName(hidden), baseline);
-    EXPECT_EQ(typical.size(), 1u) << hidden;
-    values[static_cast<size_t>(truth.indexOf(typical.at(0).variable))] = strength;
-  }
-  truth.setValues(values);
-  return truth;
+  return helicalTruth(baseline, 0.9, 1.1, hidden, strength);
 }
 
 /// Identifies a table of `truth` (the fast plan, with the tilt) against the baseline.
@@ -75,15 +63,7 @@ IdentifyResult identifyTable(const YAML::Node& baseline, const Model& truth, int
   plan.tilt_noise = 0.2 * M_PI / 180.0;  // the bench's single-flagellum plan
   MeasuredData data;
   data.tables.push_back(generateTable(truth, plan, seed));
-  IdentifyOptions options;
-  options.free = caseFreeParameters(baseline);
-  options.candidates = candidates;
-  options.power_check = power_check;
-  options.evaluator.jobs = 1;  // ctest runs the suites side by side
-  Identification identification(data, baseline, helicalBaselinePath(), options);
-  const IdentifyResult r = identification.run();
-  std::cout << verdictText(r.verdict) << ": " << r.summary << std::endl;
-  return r;
+  return identifyHelical(data, baseline, candidates, power_check);
 }
 
 // A hook softer than the filament (the weak end of its realistic range, 0.3-0.5) hidden in a

@@ -18,14 +18,15 @@
 #include "flagella_identify/discovery_cases.h"
 #include "flagella_identify/identify.h"
 #include "flagella_identify/model.h"
-#include "support/helical_test_baseline.h"
+#include "support/helical_identify.h"
 
 namespace flagella {
 namespace identify {
 namespace {
 
 using testing::fastHelicalBaseline;
-using testing::helicalBaselinePath;
+using testing::helicalTruth;
+using testing::identifyHelical;
 
 /// 30 s of track: 15 s at 40 rpm, then 15 s at 80 rpm (below the threshold), video, IMU and
 /// counted turns with the bench's noise.
@@ -41,14 +42,7 @@ SeriesPlan fastTrack() {
 }
 
 /// The baseline with its head's drag factors off by 15 % (C_t high, C_r low).
-Model perturbedBaseline(const YAML::Node& baseline) {
-  Model truth(baseline, helicalBaselinePath(), caseFreeParameters(baseline));
-  std::vector<double> values = truth.values();
-  values[static_cast<size_t>(truth.indexOf("effects.stokes_head.C_t"))] *= 1.15;
-  values[static_cast<size_t>(truth.indexOf("effects.stokes_head.C_r"))] *= 0.85;
-  truth.setValues(values);
-  return truth;
-}
+Model perturbedBaseline(const YAML::Node& baseline) { return helicalTruth(baseline, 1.15, 0.85); }
 
 /// The two candidates that bend a head track sideways (the default competitors).
 const std::vector<std::string> kSurfaceAndCom = {"interface_lateral_force", "com_offset"};
@@ -57,28 +51,14 @@ IdentifyResult identify(const TimeSeries& track, const YAML::Node& baseline,
                         const std::vector<std::string>& candidates = kSurfaceAndCom) {
   MeasuredData data;
   data.series.push_back(track);
-  IdentifyOptions options;
-  options.free = caseFreeParameters(baseline);
-  options.candidates = candidates;
-  options.evaluator.jobs = 1;  // ctest runs the suites side by side
-  Identification identification(data, baseline, helicalBaselinePath(), options);
-  const IdentifyResult r = identification.run();
-  std::cout << verdictText(r.verdict) << ": " << r.summary << std::endl;
-  return r;
+  return identifyHelical(data, baseline, candidates);
 }
 
 /// The perturbed baseline with the candidate `name` hidden at the weak end of its realistic
 /// strength on this robot.
 Model withHiddenEffect(const YAML::Node& baseline, const std::string& name) {
-  Model truth = perturbedBaseline(baseline);
-  const Candidate& effect = candidateByName(name);
-  truth.addCandidate(effect);
-  std::vector<double> values = truth.values();
-  const std::vector<TypicalStrength>& typical = typicalStrengths(effect, baseline);
-  EXPECT_EQ(typical.size(), 1u) << name;
-  values[static_cast<size_t>(truth.indexOf(typical.at(0).variable))] = typical.at(0).low;
-  truth.setValues(values);
-  return truth;
+  return helicalTruth(baseline, 1.15, 0.85, name,
+                      typicalStrengths(candidateByName(name), baseline).at(0).low);
 }
 
 /// Identifies a track of the perturbed baseline with `hidden` at the weak end of its strength.
