@@ -122,13 +122,19 @@ void timeNewtonParts(const SimulationConfig& config, const RodNetwork& net,
       20);
   const VecX rhs = VecX::Ones(net.ndof());
   costs.solve = secondsOf([&] { (void)system.solve(rhs); }, 50);
-  // One GMRES product as the stepper takes it: J v without J (sparse part, one RSS solve) and
-  // the kept factorisation's solve.
+  // One GMRES product as the stepper takes it: the kept factorisation's solve, the mapping by
+  // Ablk, and J v without J from the preimage (sparse part, no RSS solve; docs/model.md 4.4).
   DenseJacobianProduct product;
   product.begin(jacobian, net.fixed_dof);
   product.addScaledInverse(dofs, solver, weights, -1.0 / config.dt);
-  VecX out(net.ndof());
-  costs.gmres_product = secondsOf([&] { product.apply(system.solve(rhs), out); }, 50);
+  VecX out(net.ndof()), z, mapped;
+  costs.gmres_product = secondsOf(
+      [&] {
+        system.solveUnmapped(rhs, z);
+        system.map(z, mapped);
+        product.applyMapped(mapped, z, system.mappingMatrix(), system.mappingScale(), out);
+      },
+      50);
 }
 
 // Profiles 100 steps of a fresh simulation of `config` after its steady-cruise start.
@@ -155,14 +161,14 @@ void printBreakdown(const PartCosts& c, const SteadySteps& steps, size_t nodes, 
       "  RSS matrix build          %9.1f us  (when the nodes are no rigid motion of the last)\n",
       1e6 * c.build);
   std::printf("  RSS LU factorisation      %9.1f us  (the same)\n", 1e6 * c.factor);
-  std::printf("  RSS force (LU solve)      %9.1f us  (per residual evaluation)\n",
+  std::printf("  RSS force (LU solve)      %9.1f us  (per residual evaluation not followed)\n",
               1e6 * c.residual_solve);
   std::printf("  elastic assembly          %9.1f us  (per Jacobian)\n", 1e6 * c.elastic);
   std::printf(
       "  dense Newton system       %9.1f us  (per factorisation: build, precondition, LU)\n",
       1e6 * c.newton);
   std::printf("  dense Newton solve        %9.1f us  (per direct update)\n", 1e6 * c.solve);
-  std::printf("  GMRES product             %9.1f us  (J v and one preconditioner solve)\n",
+  std::printf("  GMRES product             %9.1f us  (one preconditioner solve, C z and J C z)\n",
               1e6 * c.gmres_product);
   std::printf("  (drag matrix by inverse   %9.1f us  not needed: the system is preconditioned)\n",
               1e6 * c.invert);
@@ -208,16 +214,18 @@ void printStepParts(Simulation& sim, long steps) {
   StepProfile profile;
   const RssHydrodynamics* rss = rssOf(sim);
   const long reused_before = rss ? rss->reusedSteps() : 0L;
+  const long solves_before = rss ? rss->forceSolves() : 0L;
   sim.setProfile(&profile);
   for (long k = 0; k < steps; ++k) sim.step();
   sim.setProfile(nullptr);
   const double n = double(steps), us = 1e6 / n;
   std::printf(
       "    per step: %.2f Jacobians, %.2f residuals, %.2f factorisations, %.2f updates, %.2f GMRES "
-      "products, RSS reused on %.0f %%\n",
+      "products, RSS reused on %.0f %%, %.2f RSS solves (residuals not followed)\n",
       profile.jacobians / n, profile.residuals / n, profile.factorizations / n, profile.updates / n,
       profile.krylov_iterations / n,
-      rss ? 100.0 * double(rss->reusedSteps() - reused_before) / n : 0.0);
+      rss ? 100.0 * double(rss->reusedSteps() - reused_before) / n : 0.0,
+      rss ? double(rss->forceSolves() - solves_before) / n : 0.0);
   std::printf(
       "    us per step: frames %.0f, elastic %.0f, effects %.0f, assembly %.0f, "
       "factorisation %.0f, solve %.0f, convergence %.0f, other %.0f; total %.0f\n",

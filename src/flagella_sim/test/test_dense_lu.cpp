@@ -21,6 +21,7 @@ namespace flagella {
 namespace {
 
 using testing::randomMatrix;
+using testing::randomVector;
 
 TEST(DenseLu, SolvesAndInvertsNonSymmetricSystems) {
   for (int n : {1, 7, 120}) {
@@ -38,6 +39,30 @@ TEST(DenseLu, SolvesAndInvertsNonSymmetricSystems) {
     const VecX bt = A.transpose() * x;
     EXPECT_LT((A.transpose() * lu.solveTransposed(bt) - bt).norm(), 1e-12 * A.norm() * x.norm());
   }
+}
+
+TEST(DenseLu, ThePivotGateSkipsOnlyTheEstimatesOfUnspreadPivots) {
+  // estimateConditionOnlyIfPivotsSpread: pivots within 1e6 of each other are accepted without
+  // dgecon (rcond() is then the pivot ratio, 1/cond(U) <= it); wider ones are
+  // estimated and judged by the threshold as without the gate.
+  DenseLuSolver gated, plain;
+  gated.estimateConditionOnlyIfPivotsSpread(true);
+  const MatX A = 4.0 * MatX::Identity(8, 8) + randomMatrix(8, 41);
+  ASSERT_TRUE(gated.factorize(A));
+  ASSERT_TRUE(plain.factorize(A));
+  EXPECT_GE(gated.rcond(), DenseLuSolver::kEstimatePivotRatio);
+  const VecX b = randomVector(8, 42);
+  EXPECT_LT((A * gated.solve(b) - b).norm(), 1e-12 * b.norm());
+  for (double small : {1e-9, 1e-17}) {  // spread pivots: estimated, refused below 1e-15
+    MatX D = MatX::Identity(4, 4);
+    D(2, 2) = small;
+    EXPECT_EQ(gated.factorize(D), plain.factorize(D)) << small;
+    EXPECT_EQ(gated.factorize(D), small > 1e-15) << small;
+    EXPECT_NEAR(gated.rcond(), plain.rcond(), 1e-6 * plain.rcond()) << small;
+  }
+  MatX singular = randomMatrix(6, 43);
+  singular.row(4) = 2.0 * singular.row(1);
+  EXPECT_FALSE(gated.factorize(singular));
 }
 
 TEST(DenseLu, RefusesSingularAndNonFiniteMatrices) {

@@ -6,6 +6,7 @@
 
 #include "flagella_sim/core/factored_matrix.h"
 #include "flagella_sim/solver/dense_jacobian_product.h"
+#include "flagella_sim/solver/dense_newton_system.h"
 #include "flagella_sim/solver/gmres.h"
 #include "support/random_matrices.h"
 
@@ -112,6 +113,92 @@ TEST(DenseJacobianProduct, EqualsTheJacobianFormedExplicitly) {
   product.apply(v, out);
   EXPECT_LT((out - J * v).norm(), 1e-12 * (J * v).norm());
   EXPECT_EQ(out(3), v(3));  // pinned rows are the identity's
+}
+
+// A banded matrix (bandwidth 2) with `diagonal` on its diagonal and uniform(-1, 1) beside it.
+MatX bandedMatrix(int n, double diagonal, unsigned seed) {
+  MatX m = MatX::Zero(n, n);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < n; ++i)
+    for (int j = std::max(0, i - 2); j <= std::min(n - 1, i + 2); ++j)
+      m(i, j) = i == j ? diagonal : u(rng);
+  return m;
+}
+
+// z with its entries at `dofs` replaced by A z_dofs / alpha (DenseNewtonSystem::map).
+VecX mappedBy(const MatX& a, const std::vector<int>& dofs, const VecX& z, double alpha) {
+  VecX z_h(dofs.size());
+  for (size_t k = 0; k < dofs.size(); ++k) z_h(k) = z(dofs[k]);
+  const VecX mapped = a * z_h / alpha;
+  VecX v = z;
+  for (size_t k = 0; k < dofs.size(); ++k) v(dofs[k]) = mapped(k);
+  return v;
+}
+
+TEST(DenseJacobianProduct, AtAMappedVectorTakesTheInverseBlockFromThePreimage) {
+  // v = C z (v = z except A z_H / alpha on the inverse block's DOFs H): J v formed explicitly
+  // against the product from z, which needs no solve with A (docs/model.md 4.4).
+  const int n = 24;
+  const std::vector<bool> fixed(n, false);
+  const MatX dense_S = bandedMatrix(n, 5.0, 21);
+  const SparseMatrix S = dense_S.sparseView();
+  const std::vector<int> dofs = {1, 4, 5, 9, 10, 17, 22};
+  const int m = static_cast<int>(dofs.size());
+  LuFactoredMatrix A;
+  ASSERT_TRUE(A.factorize(3.0 * MatX::Identity(m, m) + randomMatrix(m, 22)));
+  const VecX w = VecX::LinSpaced(m, 0.7, 1.9);
+  DenseJacobianProduct product;
+  product.begin(S, fixed);
+  product.addScaledInverse(dofs, A, w, -2.1);
+  const double alpha = 2.7;
+  const VecX z = randomVector(n, 23);
+  const VecX v = mappedBy(A.matrix(), dofs, z, alpha);
+  MatX J = dense_S;
+  const MatX K = w.asDiagonal() * A.matrix().inverse();
+  for (int r = 0; r < m; ++r)
+    for (int c = 0; c < m; ++c) J(dofs[r], dofs[c]) += 2.1 * K(r, c);
+  VecX out;
+  product.applyMapped(v, z, &A, alpha, out);
+  EXPECT_LT((out - J * v).norm(), 1e-12 * (J * v).norm());
+  LuFactoredMatrix other;  // another matrix's mapping: the block is solved as in apply()
+  ASSERT_TRUE(other.factorize(MatX::Identity(m, m)));
+  product.applyMapped(v, VecX::Zero(n), &other, alpha, out);
+  EXPECT_LT((out - J * v).norm(), 1e-12 * (J * v).norm());
+}
+
+TEST(DenseNewtonSystem, TheMappedUpdateSolvesTheJacobianAndFollowsTheMatrixAsItIsNow) {
+  // J = S - s diag(w) A^{-1}, solved by (J C) z = r, dq = C z; C maps by A's current value.
+  const int n = 20;
+  const std::vector<bool> fixed(n, false);
+  const MatX dense_S = bandedMatrix(n, 6.0, 31);
+  const SparseMatrix S = dense_S.sparseView();
+  const std::vector<int> dofs = {2, 3, 4, 11, 12, 13};
+  const int m = static_cast<int>(dofs.size());
+  LuFactoredMatrix A;
+  ASSERT_TRUE(A.factorize(4.0 * MatX::Identity(m, m) + randomMatrix(m, 32)));
+  const VecX w = VecX::LinSpaced(m, 1.0, 2.0);
+  DenseNewtonSystem system;
+  system.setCondensation(false);
+  system.begin(S, fixed);
+  system.addScaledInverse(dofs, A, w, -1.5);
+  ASSERT_TRUE(system.factorize(1e-15));
+  ASSERT_EQ(system.mappingMatrix(), &A);
+  MatX J = dense_S;
+  const MatX K = w.asDiagonal() * A.matrix().inverse();
+  for (int r = 0; r < m; ++r)
+    for (int c = 0; c < m; ++c) J(dofs[r], dofs[c]) += 1.5 * K(r, c);
+  const VecX r = randomVector(n, 33);
+  VecX z, dq;
+  system.solveUnmapped(r, z);
+  system.map(z, dq);
+  EXPECT_LT((J * dq - r).norm(), 1e-11 * r.norm());
+  EXPECT_LT((system.solve(r) - dq).norm(), 1e-14 * dq.norm());
+  // A later value of A: the mapping uses it (the factorisation is then a preconditioner only)
+  ASSERT_TRUE(A.factorize(5.0 * MatX::Identity(m, m) + randomMatrix(m, 34)));
+  system.map(z, dq);
+  const VecX expected = mappedBy(A.matrix(), dofs, z, system.mappingScale());
+  EXPECT_LT((dq - expected).norm(), 1e-14 * expected.norm());
 }
 
 }  // namespace

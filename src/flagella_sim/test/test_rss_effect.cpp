@@ -110,6 +110,96 @@ TEST(RssEffect, ExplicitOptionIsImplicitForceAtStartVelocities) {
   for (int i = 0; i < 3 * 3; ++i) EXPECT_EQ(a(i), 0.0);
 }
 
+// Keeps the matrix and row weights of the effect's inverse block (its Ablk and 8 pi mu l_p).
+class InverseBlockSink : public DenseJacobianSink {
+ public:
+  void addDense(const std::vector<int>&, const MatX&, double) override {}
+  void addScaledInverse(const std::vector<int>& dofs, const FactoredMatrix& a, const VecX&,
+                        double) override {
+    block_dofs = dofs;
+    matrix = &a;
+  }
+  std::vector<int> block_dofs;
+  const FactoredMatrix* matrix = nullptr;
+};
+
+TEST(RssEffect, FollowedIteratesHaveTheForceOfASolveWithoutOne) {
+  // docs/model.md 4.4: after q -= C z (C maps by Ablk / alpha), the effect takes the force from
+  // the followed preimage g -= z / alpha; it must equal -K (x - x_k) / dt with K formed
+  // explicitly from a separate solver, and take no solve. The first iterate of the next step,
+  // predicted from the accepted step's g, is followed the same way.
+  Fixture f = makeFixture(17);
+  const auto rss = rssWithEps(2e-3, true);
+  RssHydrodynamics& e = *rss;
+  beginStep(e, f);
+  InverseBlockSink sink;
+  const ReferenceFrames fr = transportFrames(f.net, f.q, f.start.frames);
+  e.addDenseJacobian({f.net, f.q, fr, f.start.q, f.start.qdot, f.dt, f.dt, f.medium, 1.3}, sink);
+  ASSERT_NE(sink.matrix, nullptr);
+  const auto explicitForce = [&](const RodState& start, const VecX& q) {
+    rss::Polyline line;  // every tail chain, segments within a chain only
+    rss::Segments segments;
+    for (const std::vector<int>& chain : f.net.parts.tail_nodes)
+      for (size_t k = 0; k < chain.size(); ++k) {
+        if (k > 0)
+          segments.push_back({static_cast<int>(line.size()) - 1, static_cast<int>(line.size())});
+        line.push_back(nodePosition(start.q, chain[k]));
+      }
+    const rss::RssSolver separate(line, segments, 2e-3, f.medium.viscosity());
+    VecX dx(sink.block_dofs.size());
+    for (size_t i = 0; i < sink.block_dofs.size(); ++i)
+      dx(i) = q(sink.block_dofs[i]) - start.q(sink.block_dofs[i]);
+    const VecX f_h = -separate.dragMatrix() * dx / f.dt;
+    VecX F = VecX::Zero(f.net.ndof());
+    for (size_t i = 0; i < sink.block_dofs.size(); ++i) F(sink.block_dofs[i]) = f_h(i);
+    return F;
+  };
+  const VecX at_q = forceAt(e, f, f.q);  // not followed yet: solved, then followed
+  EXPECT_EQ(e.forceSolves(), 1);
+  EXPECT_LT((at_q - explicitForce(f.start, f.q)).norm(), 1e-9 * at_q.norm());
+  // A mapped update from the followed iterate
+  std::mt19937 rng(18);
+  std::uniform_real_distribution<double> u(-1e-4, 1e-4);
+  const VecX z = VecX::NullaryExpr(f.net.ndof(), [&] { return u(rng); });
+  const double alpha = 0.37 * sink.matrix->matrix().diagonal().cwiseAbs().mean();
+  VecX z_h(sink.block_dofs.size());
+  for (size_t i = 0; i < sink.block_dofs.size(); ++i) z_h(i) = z(sink.block_dofs[i]);
+  const VecX moved = sink.matrix->matrix() * z_h / alpha;
+  VecX q_next = f.q - z;
+  for (size_t i = 0; i < sink.block_dofs.size(); ++i)
+    q_next(sink.block_dofs[i]) = f.q(sink.block_dofs[i]) - moved(i);
+  e.noteMappedUpdate(q_next, z, sink.matrix, alpha);
+  const VecX followed = forceAt(e, f, q_next);
+  EXPECT_EQ(e.forceSolves(), 1);
+  const VecX expected = explicitForce(f.start, q_next);
+  ASSERT_GT(expected.norm(), 0.0);
+  EXPECT_LT((followed - expected).norm(), 1e-9 * expected.norm());
+  // Another matrix's mapping is not followed: the next force is solved again
+  LuFactoredMatrix other;
+  ASSERT_TRUE(other.factorize(MatX::Identity(3, 3)));
+  e.noteMappedUpdate(f.q, z, &other, alpha);
+  EXPECT_LT((forceAt(e, f, f.q) - at_q).norm(), 1e-12 * at_q.norm());
+  EXPECT_EQ(e.forceSolves(), 2);
+  // Accept the step at q_next, start the next one there: the predicted first iterate is followed
+  RodState end = f.start;
+  end.time = f.start.time + f.dt;
+  end.q = q_next;
+  end.frames = transportFrames(f.net, q_next, f.start.frames);
+  e.acceptStep(f.net, f.start, end);
+  const long solves = e.forceSolves();
+  e.beginStep({f.net, end, f.dt, f.medium, f.medium.viscosity()});
+  VecX predicted = end.q + f.dt * (end.q - f.start.q);
+  e.predictIterate(end, f.dt, predicted);
+  VecX F = VecX::Zero(f.net.ndof());
+  const ReferenceFrames fr2 = transportFrames(f.net, predicted, end.frames);
+  e.addForce({f.net, predicted, fr2, end.q, end.qdot, f.dt, end.time + f.dt, f.medium,
+              f.medium.viscosity()},
+             F, nullptr);
+  EXPECT_EQ(e.forceSolves(), solves);
+  const VecX expected_next = explicitForce(end, predicted);
+  EXPECT_LT((F - expected_next).norm(), 1e-9 * expected_next.norm());
+}
+
 TEST(RssEffect, BadViscosityAndEmptyRobotAreReported) {
   const auto rss = rssWithEps(2e-3, true);
   RssHydrodynamics& e = *rss;

@@ -55,6 +55,14 @@ bool DenseLuSolver::factorizeStored(double min_rcond) {
   int info = 0;
   dgetrf_(&n, &n, lu_.data(), &n, pivots_.data(), &info);
   if (info != 0) return false;
+  if (pivot_gate_ && n > 0) {
+    const auto pivots = lu_.diagonal().cwiseAbs();
+    const double ratio = pivots.minCoeff() / pivots.maxCoeff();
+    if (ratio >= kEstimatePivotRatio) {  // 1 / ratio <= cond(U): no spread, no estimate
+      rcond_ = ratio;
+      return ratio > min_rcond;
+    }
+  }
   work_.resize(4 * n);
   iwork_.resize(n);
   const char norm = '1';

@@ -89,6 +89,8 @@ void RssHydrodynamics::attach(const RodNetwork& net) {
   dofs_.clear();
   for (int node : nodes_)
     for (int a = 0; a < 3; ++a) dofs_.push_back(RodNetwork::positionIndex(node) + a);
+  any_fixed_ = false;
+  for (int dof : dofs_) any_fixed_ = any_fixed_ || net.fixed_dof[dof];
 }
 
 VecX RssHydrodynamics::gather(const VecX& q) const {
@@ -105,8 +107,12 @@ void RssHydrodynamics::beginStep(const StepStart& start) {
       reused_ += solver_->updateOrReuse(polyline, segments_, currentEps(), start.viscosity,
                                         params_[reuse_tolerance_]);
       ++steps_;
-    } else
+    } else {
       solver_.emplace(polyline, segments_, currentEps(), start.viscosity);
+      solver_->setLazyFactorization(implicit_);  // from the second step on (docs/model.md 4.4)
+    }
+    following_ = false;  // a new Ablk
+    step_dt_ = start.dt;
     if (!implicit_)
       explicit_force_ = solver_->nodalForces(gather(start.state.qdot));  // docs/model.md 4.4 A
   } catch (const std::invalid_argument& e) {
@@ -119,10 +125,61 @@ void RssHydrodynamics::beginStep(const StepStart& start) {
 void RssHydrodynamics::addForce(const EffectContext& ctx, VecX& force,
                                 JacobianSink* /*jacobian*/) const {
   if (implicit_ && !solver_) throw std::logic_error("effects.rss: force asked before beginStep");
-  // docs/model.md 4.4: option B, F^hyd = -K (x - x(t_k))/dt; option A, F^hyd fixed over the step
-  const VecX f = implicit_ ? solver_->nodalForces((gather(ctx.q) - gather(ctx.q_start)) / ctx.dt)
-                           : explicit_force_;
-  for (size_t i = 0; i < dofs_.size(); ++i) force(dofs_[i]) += f(i);
+  if (!implicit_) {  // docs/model.md 4.4 option A: F^hyd fixed over the step
+    for (size_t i = 0; i < dofs_.size(); ++i) force(dofs_[i]) += explicit_force_(i);
+    return;
+  }
+  // docs/model.md 4.4 option B: F^hyd = -K (x - x(t_k))/dt = -diag(8 pi mu l_p) g / dt
+  const VecX& g = preimageAt(gather(ctx.q), ctx.q_start);
+  const VecX w = solver_->dragRowWeights();
+  for (size_t i = 0; i < dofs_.size(); ++i) force(dofs_[i]) -= w(i) * g(i) / ctx.dt;
+}
+
+const VecX& RssHydrodynamics::preimageAt(const VecX& x, const VecX& q_start) const {
+  if (following_ && x == followed_x_) return followed_g_;
+  followed_g_ = solver_->solveWith(x - gather(q_start));
+  followed_x_ = x;
+  following_ = true;
+  ++force_solves_;
+  return followed_g_;
+}
+
+void RssHydrodynamics::predictIterate(const RodState& start, double dt, VecX& q) {
+  // docs/model.md 4.4: the first iterate from g extrapolated over the last two steps,
+  // x = x_k + Ablk g (the stepper's predictor extrapolates x instead)
+  const bool chained = solver_ && implicit_ && !any_fixed_ && last_.valid &&
+                       last_.end == start.time && last_.dt == dt;
+  if (!chained) return;
+  VecX g = last_.g;
+  if (before_last_.valid && before_last_.end == last_.start && before_last_.dt == dt)
+    g = 2.0 * last_.g - before_last_.g;
+  const VecX x = gather(start.q) + solver_->multiply(g);
+  for (size_t i = 0; i < dofs_.size(); ++i) q(dofs_[i]) = x(i);
+  followed_x_ = x;
+  followed_g_ = std::move(g);
+  following_ = true;
+}
+
+void RssHydrodynamics::noteMappedUpdate(const VecX& q, const VecX& preimage,
+                                        const FactoredMatrix* mapped, double scale) {
+  // q -= C z moved the RSS positions by Ablk z / alpha: g -= z / alpha (docs/model.md 4.4)
+  if (!following_ || !solver_ || mapped != &*solver_) {
+    following_ = false;
+    return;
+  }
+  for (size_t i = 0; i < dofs_.size(); ++i) followed_g_(i) -= preimage(dofs_[i]) / scale;
+  followed_x_ = gather(q);
+}
+
+void RssHydrodynamics::acceptStep(const RodNetwork& /*net*/, const RodState& start,
+                                  const RodState& end) {
+  if (!implicit_ || !solver_) return;
+  before_last_ = std::move(last_);
+  last_.g = preimageAt(gather(end.q), start.q);
+  last_.start = start.time;
+  last_.end = end.time;
+  last_.dt = step_dt_;
+  last_.valid = true;
 }
 
 void RssHydrodynamics::addDenseJacobian(const EffectContext& ctx, DenseJacobianSink& sink) const {

@@ -36,15 +36,23 @@ void RssSolver::update(const Polyline& nodes, const Segments& segments, double e
   rotated_ = false;
   rotated_matrix_valid_ = false;
   deviation_ = 0.0;
-  factored_nodes_.clear();  // unusable for reuse until the factorisation succeeds
+  factored_nodes_.clear();  // unusable for reuse until the build (and an eager LU) succeeds
+  factored_ = false;
   assembleRssMatrix(nodes, segments, eps, ablk_);
   lengths_ = rss::voronoiLengths(nodes, segments);
-  if (!lu_.factorize(ablk_))
-    throw std::invalid_argument("the RSS matrix is singular (reciprocal condition " +
-                                std::to_string(lu_.rcond()) +
-                                "): nodes too close for this eps, or eps too small");
+  if (!lazy_) ensureFactored();
   factored_nodes_ = nodes;
   segments_ = segments;
+}
+
+void RssSolver::ensureFactored() const {
+  if (factored_) return;
+  lu_.estimateConditionOnlyIfPivotsSpread(true);  // rebuilt every buckled step (README, step cost)
+  if (!lu_.factorize(ablk_))
+    throw std::invalid_argument("the RSS matrix is singular (reciprocal condition or pivot ratio " +
+                                std::to_string(lu_.rcond()) +
+                                "): nodes too close for this eps, or eps too small");
+  factored_ = true;
 }
 
 bool RssSolver::updateOrReuse(const Polyline& nodes, const Segments& segments, double eps,
@@ -81,6 +89,7 @@ const MatX& RssSolver::matrix() const {
 }
 
 MatX RssSolver::inverse() const {
+  ensureFactored();
   MatX inv = lu_.inverse();
   if (rotated_) rotateBlocks(inv);
   return inv;
@@ -94,7 +103,19 @@ void RssSolver::rotateBlocks(MatX& m) const {
       m.block<3, 3>(3 * r, 3 * c) = rotation_ * m.block<3, 3>(3 * r, 3 * c) * rotation_.transpose();
 }
 
+VecX RssSolver::multiply(const VecX& v) const {
+  if (!rotated_ || rotated_matrix_valid_) return matrix() * v;
+  // docs/model.md 4.4: Ablk(R y + c) v = Q Ablk(y) Q^T v, block by block
+  VecX local(v.size());
+  for (int p = 0; p < nodeCount(); ++p)
+    local.segment<3>(3 * p) = rotation_.transpose() * v.segment<3>(3 * p);
+  VecX x = ablk_ * local;
+  for (int p = 0; p < nodeCount(); ++p) x.segment<3>(3 * p) = rotation_ * x.segment<3>(3 * p);
+  return x;
+}
+
 VecX RssSolver::solveCurrent(const VecX& v) const {
+  ensureFactored();
   if (!rotated_) return lu_.solve(v);
   VecX local(v.size());
   for (int p = 0; p < nodeCount(); ++p)

@@ -9,7 +9,9 @@
 
 namespace flagella {
 
-CondensedDenseLu::CondensedDenseLu() : ss_lu_(std::make_unique<SparseLuSolver>()) {}
+CondensedDenseLu::CondensedDenseLu() : ss_lu_(std::make_unique<SparseLuSolver>()) {
+  schur_lu_.estimateConditionOnlyIfPivotsSpread(true);  // once per Newton factorisation
+}
 CondensedDenseLu::~CondensedDenseLu() = default;
 
 void CondensedDenseLu::partition(int n, const std::vector<int>& dense_dofs) {

@@ -114,20 +114,32 @@ bool DenseNewtonSystem::factorize(double min_rcond) {
 }
 
 VecX DenseNewtonSystem::solve(const VecX& rhs) const {
-  VecX dq = rhs;
-  if (condensed_)
-    condensed_lu_.solveInPlace(dq);
-  else
-    dq = lu_.solve(rhs);
-  if (!preconditioned_) return dq;
-  const std::vector<int>& dofs = inverse_.dofs;
-  VecX z(dofs.size());
-  for (size_t k = 0; k < dofs.size(); ++k) z(k) = dq(dofs[k]);
-  // dq = C z with C as factored (a_rows_ is A / alpha at factorize()): a true chord step when the
-  // block's matrix has been updated since
-  const VecX mapped = a_rows_ * z;
-  for (size_t k = 0; k < dofs.size(); ++k) dq(dofs[k]) = mapped(k);
+  VecX z, dq;
+  solveUnmapped(rhs, z);
+  map(z, dq);
   return dq;
+}
+
+void DenseNewtonSystem::solveUnmapped(const VecX& rhs, VecX& z) const {
+  if (condensed_) {
+    z = rhs;
+    condensed_lu_.solveInPlace(z);
+  } else {
+    z = lu_.solve(rhs);
+  }
+}
+
+void DenseNewtonSystem::map(const VecX& z, VecX& dq) const {
+  dq = z;
+  if (!preconditioned_) return;
+  const std::vector<int>& dofs = inverse_.dofs;
+  gathered_.resize(dofs.size());
+  for (size_t k = 0; k < dofs.size(); ++k) gathered_(k) = z(dofs[k]);
+  // dq = C z, C with the block's matrix now (docs/model.md 4.4): within the step of factorize()
+  // that is the matrix factored, so dq = J^{-1} rhs; in a later step the kept factorisation is a
+  // preconditioner of the current J C, whose product then needs no solve with A (Newton-Krylov)
+  const VecX mapped = inverse_.matrix->multiply(gathered_) / alpha_;
+  for (size_t k = 0; k < dofs.size(); ++k) dq(dofs[k]) = mapped(k);
 }
 
 }  // namespace flagella

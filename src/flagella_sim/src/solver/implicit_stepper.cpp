@@ -67,6 +67,7 @@ ImplicitStepper::ImplicitStepper(RodNetwork net, std::vector<EffectPtr> effects,
       if (force->hasDenseJacobian()) dense_forces_.push_back(force);
     }
     if (StepHooks* hooks = e->as<StepHooks>()) step_hooks_.push_back(hooks);
+    if (MappedIterates* mapped = e->as<MappedIterates>()) mapped_iterates_.push_back(mapped);
     if (const ViscosityLaw* law = e->as<ViscosityLaw>()) viscosity_laws_.push_back(law);
     if (const MotorSpeedLaw* law = e->as<MotorSpeedLaw>()) speed_laws_.push_back(law);
   }
@@ -196,6 +197,10 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
   // swaps the frames in.
   VecX& q = iterate_;
   setInitialGuess(start, dt, q);
+  // docs/model.md 4.4: forces followed by preimage predict their own DOFs (unless the rotating
+  // predictor was asked for, which keeps them)
+  if (krylov_attempt_ && !options_.rotating_predictor)
+    for (MappedIterates* mapped : mapped_iterates_) mapped->predictIterate(start, dt, q);
   // Modified Newton (NewtonOptions::jacobian_reuse): the first update of every attempt uses a
   // fresh Jacobian (one from the previous step was measured to contract 5-20x worse: the stiff
   // head has turned since), later ones reuse the factored one while the residual contracts fast.
@@ -219,6 +224,10 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
       return attempt.fail("no descent along the Newton direction");
     if (progress.last_update_chord) previous_iterate_ = q;
     q -= update_;
+    if (krylov_attempt_)  // update_ = C preimage_ (docs/model.md 4.4)
+      for (MappedIterates* mapped : mapped_iterates_)
+        mapped->noteMappedUpdate(q, preimage_, dense_system_.mappingMatrix(),
+                                 dense_system_.mappingScale());
     if (round_off) {
       // Round-off-level update with a nearly converged residual: accept (NewtonOptions).
       transportInto(q, start.frames, frames_);

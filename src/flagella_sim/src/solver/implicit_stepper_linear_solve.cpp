@@ -43,9 +43,10 @@ ImplicitStepper::Factorization ImplicitStepper::factorizeJacobian(bool klu_only)
 void ImplicitStepper::solveJacobian(const VecX& rhs, VecX& dq) {
   ProfileScope timer(profile_, &StepProfile::solve);
   if (profile_) ++profile_->updates;
-  if (dense_)
-    dq = dense_system_.solve(rhs);
-  else
+  if (dense_) {  // dq = C z, z kept for the forces that follow iterates (docs/model.md 4.4)
+    dense_system_.solveUnmapped(rhs, preimage_);
+    dense_system_.map(preimage_, dq);
+  } else
     lu_.solve(rhs, dq);
 }
 

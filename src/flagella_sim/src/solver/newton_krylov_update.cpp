@@ -42,14 +42,25 @@ bool ImplicitStepper::krylovUpdate(const RodState& start, const VecX& q, double 
     scaled_rhs_ = row_scales_.cwiseProduct(residual_);
     const double target =
         std::max(0.1 * options_.residual_tolerance, kKrylovForcing * scaled_rhs_.norm());
+    // The preconditioner maps by the RSS matrix of this step (DenseNewtonSystem::map): the
+    // product of GMRES's next vector, the one just preconditioned, then takes the RSS block from
+    // its preimage without a solve (docs/model.md 4.4).
+    const FactoredMatrix* mapped = dense_system_.mappingMatrix();
+    const VecX* last_mapped = nullptr;
     const auto apply = [&](const VecX& v, VecX& out) {
-      product_.apply(v, out);
+      if (mapped && &v == last_mapped)
+        product_.applyMapped(v, preimage_, mapped, dense_system_.mappingScale(), out);
+      else
+        product_.apply(v, out);
       out.array() *= row_scales_.array();
     };
     const auto precondition = [&](const VecX& v, VecX& out) {
       unscaled_ = v.cwiseQuotient(row_scales_);
-      out = dense_system_.solve(unscaled_);
+      dense_system_.solveUnmapped(unscaled_, preimage_);
+      dense_system_.map(preimage_, out);
+      last_mapped = &out;
     };
+    preimage_.setZero(n);  // the preimage of GMRES's x = 0 when it takes no product
     const GmresResult g =
         gmres_.solve(apply, precondition, scaled_rhs_, target, options_.krylov_iterations, update_);
     if (profile_) {
@@ -60,7 +71,7 @@ bool ImplicitStepper::krylovUpdate(const RodState& start, const VecX& q, double 
       std::fprintf(stderr, "  GMRES %d products, |r| %.3e -> %.3e (target %.3e)%s\n", g.iterations,
                    scaled_rhs_.norm(), g.residual_norm, target, g.converged ? "" : ", refactoring");
     if (g.converged) {
-      kept_.stale = 2 * g.iterations > options_.krylov_iterations;
+      kept_.stale = 2 * g.iterations >= options_.krylov_iterations;
       return true;
     }
   }

@@ -15,6 +15,8 @@ class FactoredMatrix {
   virtual const MatX& matrix() const = 0;
   /// A^{-1} b.
   virtual VecX solveWith(const VecX& b) const = 0;
+  /// A v (a matrix held in a factored or rotated form may do it without forming A).
+  virtual VecX multiply(const VecX& v) const { return matrix() * v; }
   /// A^{-1} (O(n^3): for checks and fallbacks); by default column by column from solveWith.
   virtual MatX inverse() const {
     const int n = static_cast<int>(matrix().rows());

@@ -122,6 +122,23 @@ class ViscosityLaw {
   virtual double viscosityFactor(double time) const = 0;
 };
 
+/// A force of the form F = -diag(w) A^{-1} (x - x_k) / dt whose Jacobian block the Newton system
+/// right-preconditions by A (DenseNewtonSystem: updates dq = C z, C = A / alpha on the force's
+/// DOFs). Such a force can follow the Newton iterates by their preimages, g = A^{-1} (x - x_k),
+/// so that its residual needs no solve with A (docs/model.md 4.4); the stepper calls these in
+/// its Newton-Krylov attempts only. Iterates reached any other way are not followed.
+class MappedIterates {
+ public:
+  virtual ~MappedIterates() = default;
+  /// May set the force's DOFs of the first iterate `q` (the stepper's predictor set them all)
+  /// from its own history, which it then follows.
+  virtual void predictIterate(const RodState& start, double dt, VecX& q) = 0;
+  /// The iterate is now `q`, reached by q -= C z with z = `preimage` and C mapping by `mapped`
+  /// (alpha = `scale`).
+  virtual void noteMappedUpdate(const VecX& q, const VecX& preimage, const FactoredMatrix* mapped,
+                                double scale) = 0;
+};
+
 /// Per-step hooks: what a force holds fixed over a step, and internal state carried between
 /// steps. The defaults do nothing.
 class StepHooks {

@@ -1,5 +1,7 @@
 // RSS solve for a polyline (docs/model.md 4.3-4.4): factors Ablk once with partial-pivot LU (Ablk
-// is not symmetric, so Cholesky/LDLT would be wrong) and maps nodal velocities to forces.
+// is not symmetric, so Cholesky/LDLT would be wrong) and maps nodal velocities to forces. With
+// setLazyFactorization(true) Ablk is factored only when a solve first needs it (a Newton solve
+// that follows its iterates by their preimages needs none, docs/model.md 4.4).
 #pragma once
 
 #include "flagella_sim/core/dense_lu_solver.h"
@@ -15,10 +17,11 @@ class RssSolver : public FactoredMatrix {
   /// The same for several chains sharing one system (segments name node pairs).
   RssSolver(const Polyline& nodes, const Segments& segments, double eps, double viscosity);
   /// Rebuilds and refactors for new nodes (the storage is reused when the size is unchanged).
-  /// Throws as the constructor; the solver is then unusable until an update succeeds.
+  /// Throws as the constructor; the solver is then unusable until an update succeeds. Lazy: the
+  /// factorisation waits for the first solve, which throws instead if Ablk is singular.
   void update(const Polyline& nodes, const Segments& segments, double eps, double viscosity);
   /// Rigid reuse (docs/model.md 4.4): when `nodes` are a rigid motion of the polyline last
-  /// factored, to within `tolerance` eps at every node after the best-fit rotation R (Kabsch),
+  /// built, to within `tolerance` eps at every node after the best-fit rotation R (Kabsch),
   /// with the same segments and eps, the factored matrix serves rotated, Ablk(R y + c) =
   /// Q Ablk(y) Q^T with Q = diag(R, ..., R) (the regularized Stokeslet is isotropic); otherwise
   /// as update(). The Voronoi lengths and viscosity are always the new ones. Returns true when
@@ -31,6 +34,8 @@ class RssSolver : public FactoredMatrix {
   const MatX& matrix() const override;
   /// Ablk^{-1} b at the current nodes (FactoredMatrix).
   VecX solveWith(const VecX& b) const override { return solveCurrent(b); }
+  /// Ablk v at the current nodes: Q Ablk(y) Q^T v when reused rotated (no rotated copy formed).
+  VecX multiply(const VecX& v) const override;
   /// Ablk^{-1} at the current nodes: Q Ablk(y)^{-1} Q^T.
   MatX inverse() const override;
   const VecX& voronoiLengths() const { return lengths_; }
@@ -49,6 +54,10 @@ class RssSolver : public FactoredMatrix {
   /// The largest node distance from the rigid motion of the factored polyline at the last
   /// updateOrReuse() [m] (0 after a rebuild).
   double lastDeviation() const { return deviation_; }
+  /// Factor Ablk only when a solve needs it (default off: update() factors at once).
+  void setLazyFactorization(bool on) { lazy_ = on; }
+  /// Whether Ablk of the polyline last built has been factored (counts lazy factorisations).
+  bool factored() const { return factored_; }
 
  private:
   void checkSize(const VecX& velocities) const;
@@ -56,12 +65,16 @@ class RssSolver : public FactoredMatrix {
   VecX solveCurrent(const VecX& v) const;
   /// m -> Q m Q^T for a 3M x 3M matrix m (Q = diag(R, ..., R)).
   void rotateBlocks(MatX& m) const;
+  /// Factors Ablk(y) if not yet done; throws std::invalid_argument if it is singular.
+  void ensureFactored() const;
 
   double eps_ = 0.0, mu_ = 0.0;
   MatX ablk_;  ///< Ablk(y) of the factored polyline y
   VecX lengths_;
-  DenseLuSolver lu_;
-  Polyline factored_nodes_;  ///< y
+  mutable DenseLuSolver lu_;
+  mutable bool factored_ = false;  ///< lu_ holds Ablk(y)
+  bool lazy_ = false;
+  Polyline factored_nodes_;  ///< y, the polyline Ablk was last built at
   Segments segments_;
   bool rotated_ = false;
   Mat3 rotation_ = Mat3::Identity();  ///< R: current nodes = R y + c (+ deviation)

@@ -2,7 +2,8 @@
 // J = S - sum_b s_b P_b^T B_b P_b - sum_i s_i P_i^T diag(w_i) A_i^{-1} P_i, S sparse with its
 // Dirichlet DOFs pinned, the dense blocks acting between free DOFs only (the Dirichlet rows and
 // columns of J are those of the identity). Each inverse block costs one solve with A_i's
-// factorisation per product. For the Newton-Krylov update (solver.krylov_iterations).
+// factorisation per product, except at a vector mapped by A_i (applyMapped). For the
+// Newton-Krylov update (solver.krylov_iterations).
 #pragma once
 
 #include <vector>
@@ -21,6 +22,11 @@ class DenseJacobianProduct : public DenseJacobianSink {
                         const VecX& row_weights, double scale) override;
   /// out = J v.
   void apply(const VecX& v, VecX& out) const;
+  /// out = J v for v = C z, where C maps z by `mapped` (v = z except A z / alpha on the DOFs of
+  /// the inverse block of A = mapped, DenseNewtonSystem::map): that block's product is then
+  /// diag(w) z / alpha, with no solve (docs/model.md 4.4).
+  void applyMapped(const VecX& v, const VecX& z, const FactoredMatrix* mapped, double alpha,
+                   VecX& out) const;
 
  private:
   struct Block {

@@ -26,15 +26,27 @@ class DenseNewtonSystem : public DenseJacobianSink {
   /// J -= scale * block at rows and columns `dofs` (dF/dq += scale * block).
   void addDense(const std::vector<int>& dofs, const MatX& block, double scale) override;
   /// J -= scale * diag(row_weights) * matrix^{-1}; `matrix` must stay unchanged until
-  /// factorize() (solve() uses the copy made there, so a factored system serves later updates).
+  /// factorize() and alive while solve() is used (its mapping reads the matrix's current value).
   void addScaledInverse(const std::vector<int>& dofs, const FactoredMatrix& a,
                         const VecX& row_weights, double scale) override;
   /// Completes J (pins the Dirichlet DOFs) and factors it in place with partial-pivot LU, once
   /// per begin(); false if it is singular (reciprocal condition estimate below `min_rcond`).
   bool factorize(double min_rcond);
   /// The Newton update dq with J dq = rhs (J as at the last factorize(); valid until the next
-  /// begin()).
+  /// begin()). Preconditioned: dq = C z with C mapping by the block's matrix as it is now (the
+  /// matrix at factorize() within the step; a later step's when the factorisation is kept as
+  /// a preconditioner, docs/model.md 4.4).
   VecX solve(const VecX& rhs) const;
+  /// z = (J C)^{-1} rhs, the update before the mapping dq = C z (z = dq when not preconditioned).
+  void solveUnmapped(const VecX& rhs, VecX& z) const;
+  /// dq = C z: z with the block's DOFs replaced by A z / alpha, A the block's matrix now.
+  void map(const VecX& z, VecX& dq) const;
+  /// The matrix whose block the last factorize() preconditioned (null when not preconditioned),
+  /// and alpha of its mapping C.
+  const FactoredMatrix* mappingMatrix() const {
+    return preconditioned_ ? inverse_.matrix : nullptr;
+  }
+  double mappingScale() const { return alpha_; }
   /// True when the last factorize() used the preconditioned form (no inverse formed).
   bool preconditioned() const { return preconditioned_; }
   /// Factor a preconditioned system without other dense blocks by condensing out its sparse DOFs
@@ -73,8 +85,9 @@ class DenseNewtonSystem : public DenseJacobianSink {
   bool condense_ = true;
   bool condensed_ = false;
   CondensedDenseLu condensed_lu_;
-  RowMajorMatX a_rows_;   ///< A / alpha as preconditioned at the last factorize() (solve() uses it)
-  RowMajorMatX columns_;  ///< J C on the preconditioned DOFs (n x m), from precondition()
+  RowMajorMatX a_rows_;    ///< A / alpha as preconditioned at the last factorize()
+  mutable VecX gathered_;  ///< z on the block's DOFs (map())
+  RowMajorMatX columns_;   ///< J C on the preconditioned DOFs (n x m), from precondition()
 };
 
 }  // namespace flagella

@@ -205,6 +205,7 @@ class ImplicitStepper {
   std::vector<const ForceLaw*> forces_;
   std::vector<const ForceLaw*> dense_forces_;  ///< forces with a dense Jacobian block
   std::vector<StepHooks*> step_hooks_;
+  std::vector<MappedIterates*> mapped_iterates_;  ///< followed by preimage (Newton-Krylov)
   std::vector<const ViscosityLaw*> viscosity_laws_;
   std::vector<const MotorSpeedLaw*> speed_laws_;
   Medium medium_;
@@ -234,6 +235,7 @@ class ImplicitStepper {
   DenseJacobianProduct product_;
   Gmres gmres_;
   VecX row_scales_, scaled_rhs_, unscaled_;
+  VecX preimage_;  ///< z of update_ = C z (dense systems; the last GMRES preconditioner output)
   /// The factored dense Jacobian kept for later updates and steps.
   struct KeptFactorization {
     bool valid = false;
