@@ -168,18 +168,22 @@ TEST(RssEffect, FollowedIteratesHaveTheForceOfASolveWithoutOne) {
   VecX q_next = f.q - z;
   for (size_t i = 0; i < sink.block_dofs.size(); ++i)
     q_next(sink.block_dofs[i]) = f.q(sink.block_dofs[i]) - moved(i);
-  e.noteMappedUpdate(q_next, z, sink.matrix, alpha);
+  e.noteMappedUpdate(f.q, q_next, z, sink.matrix, alpha);
   const VecX followed = forceAt(e, f, q_next);
   EXPECT_EQ(e.forceSolves(), 1);
   const VecX expected = explicitForce(f.start, q_next);
   ASSERT_GT(expected.norm(), 0.0);
   EXPECT_LT((followed - expected).norm(), 1e-9 * expected.norm());
-  // Another matrix's mapping is not followed: the next force is solved again
+  // Another matrix's mapping, or an update from an iterate it does not follow, is not followed:
+  // the next force is solved again
   LuFactoredMatrix other;
   ASSERT_TRUE(other.factorize(MatX::Identity(3, 3)));
-  e.noteMappedUpdate(f.q, z, &other, alpha);
+  e.noteMappedUpdate(q_next, f.q, z, &other, alpha);
   EXPECT_LT((forceAt(e, f, f.q) - at_q).norm(), 1e-12 * at_q.norm());
   EXPECT_EQ(e.forceSolves(), 2);
+  e.noteMappedUpdate(q_next, f.q, z, sink.matrix, alpha);  // it follows f.q, not q_next
+  EXPECT_LT((forceAt(e, f, f.q) - at_q).norm(), 1e-12 * at_q.norm());
+  EXPECT_EQ(e.forceSolves(), 3);
   // Accept the step at q_next, start the next one there: the predicted first iterate is followed
   RodState end = f.start;
   end.time = f.start.time + f.dt;

@@ -160,10 +160,11 @@ void RssHydrodynamics::predictIterate(const RodState& start, double dt, VecX& q)
   following_ = true;
 }
 
-void RssHydrodynamics::noteMappedUpdate(const VecX& q, const VecX& preimage,
+void RssHydrodynamics::noteMappedUpdate(const VecX& previous, const VecX& q, const VecX& preimage,
                                         const FactoredMatrix* mapped, double scale) {
-  // q -= C z moved the RSS positions by Ablk z / alpha: g -= z / alpha (docs/model.md 4.4)
-  if (!following_ || !solver_ || mapped != &*solver_) {
+  // q -= C z moved the RSS positions by Ablk z / alpha: g -= z / alpha (docs/model.md 4.4),
+  // from the followed iterate only
+  if (!following_ || !solver_ || mapped != &*solver_ || gather(previous) != followed_x_) {
     following_ = false;
     return;
   }

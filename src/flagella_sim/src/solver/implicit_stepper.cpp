@@ -223,10 +223,12 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
     if (damped && !round_off && !backtrackUpdate(start, dt, attempt.residual))
       return attempt.fail("no descent along the Newton direction");
     if (progress.last_update_chord) previous_iterate_ = q;
+    const bool follow = krylov_attempt_ && !mapped_iterates_.empty();
+    if (follow) mapped_from_ = q;
     q -= update_;
-    if (krylov_attempt_)  // update_ = C preimage_ (docs/model.md 4.4)
+    if (follow)  // update_ = C preimage_ (docs/model.md 4.4)
       for (MappedIterates* mapped : mapped_iterates_)
-        mapped->noteMappedUpdate(q, preimage_, dense_system_.mappingMatrix(),
+        mapped->noteMappedUpdate(mapped_from_, q, preimage_, dense_system_.mappingMatrix(),
                                  dense_system_.mappingScale());
     if (round_off) {
       // Round-off-level update with a nearly converged residual: accept (NewtonOptions).

@@ -133,10 +133,10 @@ class MappedIterates {
   /// May set the force's DOFs of the first iterate `q` (the stepper's predictor set them all)
   /// from its own history, which it then follows.
   virtual void predictIterate(const RodState& start, double dt, VecX& q) = 0;
-  /// The iterate is now `q`, reached by q -= C z with z = `preimage` and C mapping by `mapped`
-  /// (alpha = `scale`).
-  virtual void noteMappedUpdate(const VecX& q, const VecX& preimage, const FactoredMatrix* mapped,
-                                double scale) = 0;
+  /// The iterate `previous` became `q` by q = previous - C z, z = `preimage`, C mapping by
+  /// `mapped` (alpha = `scale`).
+  virtual void noteMappedUpdate(const VecX& previous, const VecX& q, const VecX& preimage,
+                                const FactoredMatrix* mapped, double scale) = 0;
 };
 
 /// Per-step hooks: what a force holds fixed over a step, and internal state carried between

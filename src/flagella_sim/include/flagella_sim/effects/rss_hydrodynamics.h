@@ -34,8 +34,8 @@ class RssHydrodynamics : public Effect, public ForceLaw, public StepHooks, publi
   void addDenseJacobian(const EffectContext& ctx, DenseJacobianSink& sink) const override;
   void acceptStep(const RodNetwork& net, const RodState& start, const RodState& end) override;
   void predictIterate(const RodState& start, double dt, VecX& q) override;
-  void noteMappedUpdate(const VecX& q, const VecX& preimage, const FactoredMatrix* mapped,
-                        double scale) override;
+  void noteMappedUpdate(const VecX& previous, const VecX& q, const VecX& preimage,
+                        const FactoredMatrix* mapped, double scale) override;
 
   /// Network nodes the RSS acts on (every tail chain, root first), in system order.
   const std::vector<int>& nodes() const { return nodes_; }

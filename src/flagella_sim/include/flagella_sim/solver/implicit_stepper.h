@@ -206,6 +206,7 @@ class ImplicitStepper {
   std::vector<const ForceLaw*> dense_forces_;  ///< forces with a dense Jacobian block
   std::vector<StepHooks*> step_hooks_;
   std::vector<MappedIterates*> mapped_iterates_;  ///< followed by preimage (Newton-Krylov)
+  VecX mapped_from_;  ///< the iterate before a followed update (storage reused)
   std::vector<const ViscosityLaw*> viscosity_laws_;
   std::vector<const MotorSpeedLaw*> speed_laws_;
   Medium medium_;
