@@ -26,6 +26,7 @@ RssSolver::RssSolver(const Polyline& nodes, double eps, double viscosity)
 
 RssSolver::RssSolver(const Polyline& nodes, const Segments& segments, double eps,
                      double viscosity) {
+  lu_.estimateConditionOnlyIfPivotsSpread(true);  // rebuilt every buckled step (README, step cost)
   update(nodes, segments, eps, viscosity);
 }
 
@@ -47,7 +48,6 @@ void RssSolver::update(const Polyline& nodes, const Segments& segments, double e
 
 void RssSolver::ensureFactored() const {
   if (factored_) return;
-  lu_.estimateConditionOnlyIfPivotsSpread(true);  // rebuilt every buckled step (README, step cost)
   if (!lu_.factorize(ablk_))
     throw std::invalid_argument("the RSS matrix is singular (reciprocal condition or pivot ratio " +
                                 std::to_string(lu_.rcond()) +
@@ -103,26 +103,23 @@ void RssSolver::rotateBlocks(MatX& m) const {
       m.block<3, 3>(3 * r, 3 * c) = rotation_ * m.block<3, 3>(3 * r, 3 * c) * rotation_.transpose();
 }
 
+VecX RssSolver::rotateEachNode(VecX v, bool inverse) const {
+  for (int p = 0; p < nodeCount(); ++p)
+    v.segment<3>(3 * p) = inverse ? Vec3(rotation_.transpose() * v.segment<3>(3 * p))
+                                  : Vec3(rotation_ * v.segment<3>(3 * p));
+  return v;
+}
+
 VecX RssSolver::multiply(const VecX& v) const {
   if (!rotated_ || rotated_matrix_valid_) return matrix() * v;
   // docs/model.md 4.4: Ablk(R y + c) v = Q Ablk(y) Q^T v, block by block
-  VecX local(v.size());
-  for (int p = 0; p < nodeCount(); ++p)
-    local.segment<3>(3 * p) = rotation_.transpose() * v.segment<3>(3 * p);
-  VecX x = ablk_ * local;
-  for (int p = 0; p < nodeCount(); ++p) x.segment<3>(3 * p) = rotation_ * x.segment<3>(3 * p);
-  return x;
+  return rotateEachNode(ablk_ * rotateEachNode(v, true), false);
 }
 
 VecX RssSolver::solveCurrent(const VecX& v) const {
   ensureFactored();
   if (!rotated_) return lu_.solve(v);
-  VecX local(v.size());
-  for (int p = 0; p < nodeCount(); ++p)
-    local.segment<3>(3 * p) = rotation_.transpose() * v.segment<3>(3 * p);
-  VecX x = lu_.solve(local);
-  for (int p = 0; p < nodeCount(); ++p) x.segment<3>(3 * p) = rotation_ * x.segment<3>(3 * p);
-  return x;
+  return rotateEachNode(lu_.solve(rotateEachNode(v, true)), false);
 }
 
 void RssSolver::checkSize(const VecX& velocities) const {

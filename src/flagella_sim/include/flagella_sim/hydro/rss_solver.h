@@ -56,8 +56,6 @@ class RssSolver : public FactoredMatrix {
   double lastDeviation() const { return deviation_; }
   /// Factor Ablk only when a solve needs it (default off: update() factors at once).
   void setLazyFactorization(bool on) { lazy_ = on; }
-  /// Whether Ablk of the polyline last built has been factored (counts lazy factorisations).
-  bool factored() const { return factored_; }
 
  private:
   void checkSize(const VecX& velocities) const;
@@ -65,6 +63,8 @@ class RssSolver : public FactoredMatrix {
   VecX solveCurrent(const VecX& v) const;
   /// m -> Q m Q^T for a 3M x 3M matrix m (Q = diag(R, ..., R)).
   void rotateBlocks(MatX& m) const;
+  /// Q v, or Q^T v when `inverse` (Q = diag(R, ..., R), R the reuse's rotation).
+  VecX rotateEachNode(VecX v, bool inverse) const;
   /// Factors Ablk(y) if not yet done; throws std::invalid_argument if it is singular.
   void ensureFactored() const;
 
