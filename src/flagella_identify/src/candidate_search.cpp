@@ -1,5 +1,7 @@
 // Every candidate effect fitted alone, then paired with the best one (docs/model.md 7.6).
 #include <algorithm>
+#include <functional>
+#include <optional>
 
 #include "identify_internal.h"
 #include "text_format.h"
@@ -16,23 +18,30 @@ std::string Identification::skipReason(const Candidate& c, unsigned observables)
 
 void Identification::fitCandidates(IdentifyResult& result) {
   const unsigned observables = observablesOf(data_);
-  for (const Candidate* c : candidatesNamed(options_.candidates)) {
-    const std::string reason = skipReason(*c, observables);
-    if (!reason.empty()) {
-      ModelOutcome skipped;
-      skipped.label = c->name;
-      skipped.effects = {c->name};
-      skipped.skipped = true;
-      skipped.note = reason;
-      result.candidates.push_back(skipped);
-      say("candidate " + c->name + ": skipped (" + reason + ")");
-      continue;
-    }
-    say("candidate " + c->name + ": " + c->title);
-    capping_singles_ = true;
-    result.candidates.push_back(fitModelOutcome({c}, result.baseline));
-    capping_singles_ = false;
-    result.total_evaluations += result.candidates.back().evaluations;
+  const std::vector<const Candidate*> named = candidatesNamed(options_.candidates);
+  std::vector<ModelOutcome> outcomes(named.size());
+  std::vector<std::function<void()>> fits;
+  for (size_t k = 0; k < named.size(); ++k)
+    fits.push_back([&, k] {
+      const Candidate& c = *named[k];
+      const std::string reason = skipReason(c, observables);
+      if (!reason.empty()) {
+        outcomes[k].label = c.name;
+        outcomes[k].effects = {c.name};
+        outcomes[k].skipped = true;
+        outcomes[k].note = reason;
+        say("candidate " + c.name + ": skipped (" + reason + ")");
+        return;
+      }
+      say("candidate " + c.name + ": " + c.title);
+      outcomes[k] = fitModelOutcome({&c}, result.baseline);
+    });
+  capping_singles_ = true;
+  runFits(fits);
+  capping_singles_ = false;
+  for (ModelOutcome& m : outcomes) {
+    result.total_evaluations += m.evaluations;
+    result.candidates.push_back(std::move(m));
   }
   // docs/model.md 7.6: a baseline off its map may have dragged the candidates fitted from it off
   // too: unless one of them leaves a held-out residual within the noise, each again by
@@ -44,16 +53,23 @@ void Identification::fitCandidates(IdentifyResult& result) {
   if (!options_.continuation || data_.series.empty() || base.warnings.empty() || explained) return;
   say("the baseline ended off its map and no candidate fitted from it leaves a residual within "
       "the noise: each candidate again by continuation");
-  for (ModelOutcome& m : result.candidates) {
-    if (m.skipped) continue;
-    std::vector<const Candidate*> effects;
-    for (const std::string& name : m.effects) effects.push_back(&candidateByName(name));
-    say("candidate " + m.label + " by continuation");
-    ModelOutcome again = fitByContinuation(effects, base);
-    result.total_evaluations += again.evaluations;
-    if (again.fitted) judge(again, base);
-    m = betterOf(std::move(m), std::move(again));
+  std::vector<int> again_evaluations(result.candidates.size(), 0);
+  fits.clear();
+  for (size_t k = 0; k < result.candidates.size(); ++k) {
+    if (result.candidates[k].skipped) continue;
+    fits.push_back([&, k] {
+      ModelOutcome& m = result.candidates[k];
+      std::vector<const Candidate*> effects;
+      for (const std::string& name : m.effects) effects.push_back(&candidateByName(name));
+      say("candidate " + m.label + " by continuation");
+      ModelOutcome again = fitByContinuation(effects, base);
+      again_evaluations[k] = again.evaluations;
+      if (again.fitted) judge(again, base);
+      m = betterOf(std::move(m), std::move(again));
+    });
   }
+  runFits(fits);
+  for (int evaluations : again_evaluations) result.total_evaluations += evaluations;
 }
 
 void Identification::tryPairs(IdentifyResult& result, std::optional<ModelOutcome>& chosen) {
@@ -90,24 +106,34 @@ void Identification::tryPairs(IdentifyResult& result, std::optional<ModelOutcome
                   100.0 * chosen->explained) +
         chosen->label);
     const ModelOutcome first = *chosen;
-    for (const ModelOutcome& m : result.candidates) {
+    std::vector<std::optional<ModelOutcome>> tried(result.candidates.size());
+    std::vector<std::function<void()>> fits;
+    for (size_t k = 0; k < result.candidates.size(); ++k) {
+      const ModelOutcome& m = result.candidates[k];
       // every other fitted candidate: a second effect can be masked by the first one's larger
       // discrepancy, so that on its own it does not even lower the held-out error
       if (!m.fitted || m.label == first.label) continue;
-      std::vector<const Candidate*> pair{&candidateByName(first.effects[0]),
-                                         &candidateByName(m.effects[0])};
-      // docs/model.md 7.6: with cross validation, no model with more parameters than a fold
-      // trains rows (each row is one motor rate)
-      const size_t parameters = first.parameters.size() + pair[1]->variables.size();
-      if (folds_ && static_cast<int>(parameters) > fewestTrainingRows()) {
-        say("  " + first.label + " + " + m.label +
-            formatted(" not tried: %.0f parameters, more than the %.0f rows a fold trains on",
-                      parameters, fewestTrainingRows()));
-        continue;
-      }
-      ModelOutcome combined = fitModelOutcome(pair, first);
-      result.total_evaluations += combined.evaluations;
-      result.combinations.push_back(combined);
+      fits.push_back([&, k] {
+        const ModelOutcome& second = result.candidates[k];
+        std::vector<const Candidate*> pair{&candidateByName(first.effects[0]),
+                                           &candidateByName(second.effects[0])};
+        // docs/model.md 7.6: with cross validation, no model with more parameters than a fold
+        // trains rows (each row is one motor rate)
+        const size_t parameters = first.parameters.size() + pair[1]->variables.size();
+        if (folds_ && static_cast<int>(parameters) > fewestTrainingRows()) {
+          say("  " + first.label + " + " + second.label +
+              formatted(" not tried: %.0f parameters, more than the %.0f rows a fold trains on",
+                        parameters, fewestTrainingRows()));
+          return;
+        }
+        tried[k] = fitModelOutcome(pair, first);
+      });
+    }
+    runFits(fits);
+    for (std::optional<ModelOutcome>& combined : tried) {
+      if (!combined) continue;
+      result.total_evaluations += combined->evaluations;
+      result.combinations.push_back(std::move(*combined));
     }
     if (const ModelOutcome* best_pair = bestSignificant(result.combinations)) {
       chosen = *best_pair;

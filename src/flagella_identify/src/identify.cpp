@@ -48,10 +48,6 @@ Split Identification::heldOutRows() const {
   return folds_ ? heldOutInSomeFold(data_, *folds_) : evaluator_.split();
 }
 
-void Identification::say(const std::string& line) const {
-  if (options_.progress) options_.progress(line);
-}
-
 Model Identification::modelOf(const ModelOutcome& outcome) const {
   Model model(baseline_, source_, options_.free);
   for (const std::string& name : outcome.effects) model.addCandidate(candidateByName(name));
@@ -132,6 +128,7 @@ IdentifyResult Identification::run() {
     if (const ModelOutcome* rival = closestRival(result, *result.chosen))
       cannotTellBetween(result, *rival);
   cautionOffTheMap(result);
+  result.fits_at_once = most_fits_at_once_;
   say("verdict: " + verdictText(result.verdict) +
       (result.named.empty() ? "" : " (" + joined(result.named, " + ") + ")"));
   return result;

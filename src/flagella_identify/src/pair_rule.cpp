@@ -1,5 +1,6 @@
 // The pair rule (docs/model.md 7.6): a pair is named only if it beats each effect refit alone.
 #include <cmath>
+#include <functional>
 
 #include "identify_internal.h"
 #include "text_format.h"
@@ -47,7 +48,7 @@ std::string refitFigures(const std::vector<ModelOutcome>& refits,
 
 }  // namespace
 
-ModelOutcome Identification::refitAlone(IdentifyResult& result, const ModelOutcome& pair,
+ModelOutcome Identification::refitAlone(const IdentifyResult& result, const ModelOutcome& pair,
                                         size_t member) {
   const Candidate& effect = candidateByName(pair.effects[member]);
   const ModelOutcome* own = outcomeLabelled(result.candidates, effect.name);
@@ -55,20 +56,25 @@ ModelOutcome Identification::refitAlone(IdentifyResult& result, const ModelOutco
   // from the start the tool already has: its own first fit, taken as it is if it converged,
   // else continued from its end (from its start points if it failed)
   std::vector<std::string> where = {"the pair's optimum with " + pair.effects[1 - member] + " off"};
-  say("  " + effect.name + " alone from " + where[0]);
-  std::vector<ModelOutcome> fits = {fitOnTraining({&effect}, pair)};
-  int evaluations = fits[0].evaluations;
+  std::vector<ModelOutcome> fits(2);
+  std::vector<std::function<void()>> refits = {[&] {
+    say("  " + effect.name + " alone from " + where[0]);
+    fits[0] = fitOnTraining({&effect}, pair);
+  }};
   const bool own_final = own && own->fitted && own->converged;
   if (own_final) {
     where.push_back("its first fit (converged, not fitted again)");
-    fits.push_back(*own);
+    fits[1] = *own;
   } else {
     const bool from_end = own && own->fitted;
     where.push_back(from_end ? "the end of its first fit" : "its start points from the baseline");
-    say("  " + effect.name + " alone from " + where[1]);
-    fits.push_back(fitOnTraining({&effect}, from_end ? *own : result.baseline));
-    evaluations += fits[1].evaluations;
+    refits.push_back([&, from_end] {
+      say("  " + effect.name + " alone from " + where[1]);
+      fits[1] = fitOnTraining({&effect}, from_end ? *own : result.baseline);
+    });
   }
+  runFits(refits);
+  const int evaluations = fits[0].evaluations + (own_final ? 0 : fits[1].evaluations);
   const bool second_better =
       fits[1].fitted && (!fits[0].fitted || fits[1].train_chi_square < fits[0].train_chi_square);
   const size_t best = second_better ? 1 : 0;
@@ -78,7 +84,6 @@ ModelOutcome Identification::refitAlone(IdentifyResult& result, const ModelOutco
   for (size_t k = 0; k < fits.size(); ++k)
     kept.starts.push_back(startEnding(where[k], fits[k]) + (k == best ? " (kept)" : ""));
   if (kept.fitted && !(own_final && best == 1)) judge(kept, result.baseline);
-  result.total_evaluations += kept.evaluations;
   return kept;
 }
 
@@ -89,8 +94,15 @@ void Identification::checkPairAgainstItsSingles(IdentifyResult& result,
   // again to its optimum, comes within the bar of the pair.
   const ModelOutcome pair = *chosen;
   say("before naming " + pair.label + ": each of its effects fitted again alone (never capped)");
+  std::vector<ModelOutcome> refits(pair.effects.size());
+  std::vector<std::function<void()>> fits;
   for (size_t member = 0; member < pair.effects.size(); ++member)
-    result.pair_refits.push_back(refitAlone(result, pair, member));
+    fits.push_back([&, member] { refits[member] = refitAlone(result, pair, member); });
+  runFits(fits);
+  for (ModelOutcome& refit : refits) {
+    result.total_evaluations += refit.evaluations;
+    result.pair_refits.push_back(std::move(refit));
+  }
   const std::string figures = refitFigures(result.pair_refits, result.candidates);
   const ModelOutcome* single = bestFitted(result.pair_refits, false);
   if (!single) {

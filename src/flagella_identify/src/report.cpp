@@ -213,6 +213,7 @@ json reportJson(const IdentifyResult& r, const ReportInputs& inputs, const std::
   }
   j["extended_config"] = yaml_path;
   j["model_evaluations"] = r.total_evaluations;
+  j["fits_at_once"] = r.fits_at_once;
   return j;
 }
 
@@ -234,6 +235,7 @@ void markdownHead(std::ostringstream& md, const IdentifyResult& r, const ReportI
   md << "- Validation: " << r.validation << "\n";
   for (const std::string& note : r.validation_notes) md << "  - " << note << "\n";
   md << "- Model evaluations (each simulates the training experiments): " << r.total_evaluations
+     << (r.fits_at_once > 1 ? " (candidate fits two at a time)" : "")
      << "\n- Plots: `report.png` (data, calibrated baseline, extended model)\n\n";
   md << "## Gain on held-out data\n\n| model | held-out RMS z | noise test z |\n|---|---|---|\n";
   md << "| calibrated baseline | " << num(r.baseline_diagnosis.rms_z, 3) << " | "

@@ -63,6 +63,7 @@ ModelOutcome Identification::fitFrom(const std::vector<const Candidate*>& effect
   say("  fitting " + out.label + " (" + std::to_string(model.parameters().size()) + " parameters)" +
       (features ? " on the summary features" : ""));
   FitOptions options = fitOptionsFor(data_, options_.fit);
+  options.progress = fitProgress();
   if (capping_singles_ && effects.size() == 1 && options_.single_fit_max_iterations > 0)
     options.max_iterations = std::min(options.max_iterations, options_.single_fit_max_iterations);
   if (features) {

@@ -42,7 +42,7 @@ struct BenchArgs {
   std::vector<std::string> cases, candidates;
   int first_seed = 1, seeds = 3, jobs = 2;
   std::string config = FLAGELLA_CONFIG_DIR "/identification/granular_design1_coarse.yaml";
-  bool verbose = false, before = false, signature_only = false;
+  bool verbose = false, before = false, signature_only = false, sequential_fits = false;
 };
 
 /// A case's hidden signature in words, and whether the data could show the effect to this tool.
@@ -89,6 +89,9 @@ void addOptions(CLI::App& app, BenchArgs& a) {
   app.add_flag("--signature-only", a.signature_only,
                "only how far each case's hidden effects move the truth's predictions of its data "
                "(training and held-out chi^2 against the truth without them), no identification");
+  app.add_flag("--sequential-fits", a.sequential_fits,
+               "fit the candidates one at a time (default with --jobs 2 or more: two at a time, "
+               "same fits and verdicts)");
   app.add_flag("--without-small-data-methods", a.before,
                "without cross validation, power check and continuation fits (the pipeline "
                "before them, for a before/after table)");
@@ -127,6 +130,7 @@ void runSeed(const BenchArgs& a, const DiscoveryCase& c, const std::string& name
   o.free = caseFreeParameters(baseline);
   o.candidates = a.candidates;
   o.evaluator.jobs = a.jobs;
+  o.concurrent_fits = !a.sequential_fits;
   o.cross_validation = o.power_check = o.continuation = !a.before;
   if (a.verbose) o.progress = [](const std::string& l) { std::cout << "    " << l << "\n"; };
   Identification id(g.data, baseline, a.config, o);

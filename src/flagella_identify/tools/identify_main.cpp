@@ -71,7 +71,7 @@ struct IdentifyArgs {
   std::vector<std::string> data_files, overrides, free, candidates;
   std::string config, out_dir = "out/identify";
   int jobs = flagella::defaultJobs();
-  bool quiet = false, no_plot = false, calibrate_only = false;
+  bool quiet = false, no_plot = false, calibrate_only = false, sequential_fits = false;
 };
 
 /// Declares the command-line options, bound to `a`.
@@ -101,6 +101,9 @@ void addOptions(CLI::App& app, IdentifyArgs& a) {
                "candidates): writes calibration.json, calibration.md, calibrated_config.yaml");
   app.add_flag("--no-plot", a.no_plot, "do not draw report.png");
   app.add_flag("--quiet", a.quiet, "no progress output");
+  app.add_flag("--sequential-fits", a.sequential_fits,
+               "fit the candidates one at a time (default with --jobs 2 or more: two at a time, "
+               "same fits and verdict)");
 }
 
 /// Draws report.png with the plotting script; warns (the report stands without it) on failure.
@@ -119,6 +122,7 @@ int runIdentification(const IdentifyArgs& a, MeasuredData data, const YAML::Node
   options.free = a.free.empty() ? defaultFree(baseline) : a.free;
   options.candidates = a.candidates;
   options.evaluator.jobs = a.jobs;
+  options.concurrent_fits = !a.sequential_fits;
   options.progress = progress;
   options.fit.progress = progress;
   progress("read " + std::to_string(data.tables.size()) + " table(s) and " +

@@ -40,6 +40,11 @@ struct IdentifyOptions {
   int single_fit_max_iterations = 0;
   /// The pair rule itself (off: the pipeline without it, for before/after comparisons).
   bool pair_rule = true;
+  /// docs/model.md 7.6: the candidates' fits (each alone, by continuation, paired with the best)
+  /// two at a time when evaluator.jobs >= 2 and not under mpirun, their model runs sharing the
+  /// jobs; progress is printed in the sequential order, and every fit and verdict is the same as
+  /// one at a time (false).
+  bool concurrent_fits = true;
   std::function<void(const std::string&)> progress;
 };
 
@@ -101,6 +106,8 @@ struct IdentifyResult {
   Diagnosis chosen_diagnosis;
   double gain = 0.0;  ///< 1 - held-out RMS z after / before (0 when nothing is named)
   int total_evaluations = 0;
+  /// The most candidate fits that ran at once (IdentifyOptions::concurrent_fits): 1 or 2.
+  int fits_at_once = 1;
   /// How the models were judged: "held-out split (...)" or "k-fold cross validation (...)";
   /// with cross validation every held-out figure above is cross-validated.
   std::string validation;
@@ -184,10 +191,17 @@ class Identification {
   /// with the other effect off, against its own first fit if that converged, else fitted again
   /// from that fit's end (from its start points if it failed); the one of lower training chi^2,
   /// judged against the baseline, each start's ending in its `starts`.
-  ModelOutcome refitAlone(IdentifyResult& result, const ModelOutcome& pair, size_t member);
+  ModelOutcome refitAlone(const IdentifyResult& result, const ModelOutcome& pair, size_t member);
   /// With cross validation: the fewest rows any fold trains on.
   int fewestTrainingRows() const;
   void say(const std::string& line) const;
+  /// options_.fit.progress, held like say() while fits run concurrently (null if unset).
+  std::function<void(const std::string&)> fitProgress() const;
+  /// How many of `count` independent fits run at once (IdentifyOptions::concurrent_fits).
+  int fitsAtOnce(int count) const;
+  /// Runs each fit (it stores its own outcome), fitsAtOnce at a time; every fit's progress
+  /// lines are printed in `fits` order after all have ended.
+  void runFits(const std::vector<std::function<void()>>& fits);
 
   MeasuredData data_;
   YAML::Node baseline_;
@@ -197,6 +211,7 @@ class Identification {
   std::optional<CrossValidationPlan> folds_;  ///< set when the data are cross-validated
   double baseline_excess_ = 0.0;              ///< held-out chi^2 - N of the calibrated baseline
   bool capping_singles_ = false;  ///< single_fit_max_iterations applies (fitCandidates only)
+  int most_fits_at_once_ = 1;     ///< IdentifyResult::fits_at_once so far
 };
 
 /// A model explains the discrepancy when it removes at least this share of the baseline's
