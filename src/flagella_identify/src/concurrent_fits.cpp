@@ -36,22 +36,21 @@ class HoldProgress {
 
 }  // namespace
 
-void Identification::say(const std::string& line) const {
+void Identification::emit(bool from_fit, const std::string& line) const {
   if (t_held) {
-    t_held->push_back({false, line});
+    t_held->push_back({from_fit, line});
     return;
   }
-  if (options_.progress) options_.progress(line);
+  const std::function<void(const std::string&)>& sink =
+      from_fit ? options_.fit.progress : options_.progress;
+  if (sink) sink(line);
 }
+
+void Identification::say(const std::string& line) const { emit(false, line); }
 
 std::function<void(const std::string&)> Identification::fitProgress() const {
   if (!options_.fit.progress) return nullptr;
-  return [this](const std::string& line) {
-    if (t_held)
-      t_held->push_back({true, line});
-    else
-      options_.fit.progress(line);
-  };
+  return [this](const std::string& line) { emit(true, line); };
 }
 
 int Identification::fitsAtOnce(int count) const {
@@ -67,7 +66,9 @@ void Identification::runFits(const std::vector<std::function<void()>>& fits) {
     for (const std::function<void()>& fit : fits) fit();
     return;
   }
-  most_fits_at_once_ = std::max(most_fits_at_once_, at_once);
+  // Recorded by the outermost batch only: a nested one runs on a thread of a concurrent batch,
+  // which has recorded already, and two threads must not write it.
+  if (!t_held) most_fits_at_once_ = std::max(most_fits_at_once_, at_once);
   // docs/model.md 7.6: each fit is the same computation as when run alone (its model runs are
   // deterministic whatever the threads); only the wall time and the order of work change.
   std::vector<std::vector<HeldLine>> held(fits.size());
@@ -82,14 +83,7 @@ void Identification::runFits(const std::vector<std::function<void()>>& fits) {
   }
   // In order; into the enclosing fit's lines when these fits ran inside one.
   for (const std::vector<HeldLine>& lines : held)
-    for (const HeldLine& line : lines) {
-      if (t_held)
-        t_held->push_back(line);
-      else if (line.from_fit && options_.fit.progress)
-        options_.fit.progress(line.text);
-      else if (!line.from_fit && options_.progress)
-        options_.progress(line.text);
-    }
+    for (const HeldLine& line : lines) emit(line.from_fit, line.text);
   if (failure) std::rethrow_exception(failure);
 }
 

@@ -195,6 +195,9 @@ class Identification {
   /// With cross validation: the fewest rows any fold trains on.
   int fewestTrainingRows() const;
   void say(const std::string& line) const;
+  /// A progress line of say() (from_fit false) or of a fit (options_.fit.progress): held while
+  /// this thread runs one of several concurrent fits, else printed.
+  void emit(bool from_fit, const std::string& line) const;
   /// options_.fit.progress, held like say() while fits run concurrently (null if unset).
   std::function<void(const std::string&)> fitProgress() const;
   /// How many of `count` independent fits run at once (IdentifyOptions::concurrent_fits).
