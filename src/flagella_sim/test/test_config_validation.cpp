@@ -261,6 +261,8 @@ TEST(OutOfRange, OverridesAreRejectedNamingFieldAndRange) {
       {"solver.max_iterations=0", "solver.max_iterations", "got 0"},
       {"solver.residual_tolerance=0", "solver.residual_tolerance", "got 0"},
       {"solver.residual_tolerance=1e-14", "solver.residual_tolerance", "[1e-10, 1]"},
+      {"solver.stagnation_updates=1", "solver.stagnation_updates", "[2, 12]"},
+      {"solver.stagnation_updates=13", "solver.stagnation_updates", "got 13"},
   };
   const std::string path = shippedConfig(kDesign1);
   for (const RangeCase& rc : cases) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "flagella_sim/simulation/simulation.h"
+#include "flagella_sim/solver/solver_failure.h"
 #include "flagella_sim/solver/step_profile.h"
 
 namespace flagella {
@@ -21,6 +22,8 @@ struct PathRun {
   TrajectorySample last;
   StepProfile profile;
   long newton_iterations = 0;
+  long subdivided_steps = 0;
+  long damped_retries = 0;
   double max_speed = 0.0;  // largest head speed over the run [m/s]
 };
 
@@ -35,7 +38,10 @@ PathRun runPath(const std::string& config, std::vector<std::string> overrides, d
   sim.setProfile(&out.profile);
   const long steps = std::lround(seconds / sim.config().dt);
   for (long k = 0; k < steps; ++k) {
-    out.newton_iterations += sim.step().newton_iterations;
+    const StepReport report = sim.step();
+    out.newton_iterations += report.newton_iterations;
+    if (report.substeps > 1) ++out.subdivided_steps;
+    out.damped_retries += report.damped_retries;
     out.max_speed = std::max(out.max_speed, sim.sample().head_velocity.norm());
   }
   sim.setProfile(nullptr);
@@ -76,6 +82,87 @@ TEST(NewtonIterationPath, Design1SameAnswerFewerJacobians) {
 
 TEST(NewtonIterationPath, InterfaceRobotSameAnswerFewerJacobians) {
   expectSameAnswerWithFewerJacobians("interface_robot.yaml", {"robot.n_tails=2"}, 3.0);
+}
+
+// The interface robot's discovery config (dt = 0.05 s) at the discovery series' first motor rate
+// (120 rpm), where head and tails turn by about 21 and 15 deg per step, at the fits' tolerance
+// (1e-7): the rotating predictor (docs/model.md 1.10) and the linear one converge to the same
+// steps, the rotating one in fewer Newton iterations.
+TEST(NewtonIterationPath, CoarseInterfaceRobotRotatingPredictorSameAnswerFewerIterations) {
+  const std::string config = "identification/interface_4tails_coarse.yaml";
+  const std::vector<std::string> overrides = {"motor.omega_rpm=120",
+                                              "solver.residual_tolerance=1e-7"};
+  const double seconds = 5.0;
+  auto with = [&](const char* predictor) {
+    std::vector<std::string> o = overrides;
+    o.push_back(std::string("solver.predictor=") + predictor);
+    return runPath(config, o, seconds, false);
+  };
+  const PathRun rotating = with("rotating"), linear = with("linear");
+  const double travel = linear.max_speed * seconds;
+  ASSERT_GT(travel, 0.0);
+  EXPECT_LT((rotating.last.head_position - linear.last.head_position).norm(), 1e-4 * travel);
+  EXPECT_LT((rotating.last.head_axis - linear.last.head_axis).norm(), 1e-4);
+  EXPECT_LT((rotating.last.head_velocity - linear.last.head_velocity).norm(),
+            1e-3 * linear.max_speed);
+  EXPECT_EQ(rotating.profile.steps, linear.profile.steps);
+  EXPECT_EQ(rotating.subdivided_steps, linear.subdivided_steps);
+  EXPECT_LT(rotating.newton_iterations, linear.newton_iterations);
+  ::testing::Test::RecordProperty("newton_iterations_rotating",
+                                  std::to_string(rotating.newton_iterations));
+  ::testing::Test::RecordProperty("newton_iterations_linear",
+                                  std::to_string(linear.newton_iterations));
+}
+
+// The interface robot's discovery config at the discovery series' fastest motor rate with the
+// strong lateral force of the discovery case strong_lateral_4_tails (C_yr 0.3), at the fits'
+// tolerance: plain Newton alternates between a large and a falling residual (the second update
+// raises it about 1000-fold, the third brings it below the first) and converges in about 12
+// updates. Judged over two updates (the default) it is taken for stagnating and handed to the
+// damped retry, which crawls, and the step is subdivided; judged over four
+// (solver.stagnation_updates) no step is, and the run is the one without the damped retry at
+// all, update for update (docs/model.md 1.10).
+TEST(NewtonIterationPath, FourUpdateStagnationWindowLetsAnAlternatingNewtonConverge) {
+  const std::string config = "identification/interface_4tails_coarse.yaml";
+  const std::vector<std::string> overrides = {"motor.omega_rpm=240",
+                                              "solver.residual_tolerance=1e-7",
+                                              "effects.interface_lateral_force.C_yr=0.3"};
+  const double seconds = 10.0;
+  auto with = [&](const std::string& setting) {
+    std::vector<std::string> o = overrides;
+    o.push_back(setting);
+    return runPath(config, o, seconds, false);
+  };
+  const PathRun four = with("solver.stagnation_updates=4");
+  const PathRun two = with("solver.stagnation_updates=2");
+  const PathRun undamped = with("solver.damped_retry=false");
+  EXPECT_EQ(four.subdivided_steps, 0);
+  EXPECT_EQ(four.damped_retries, 0);
+  EXPECT_GT(two.subdivided_steps, 0);
+  EXPECT_EQ(undamped.subdivided_steps, 0);
+  EXPECT_EQ(four.newton_iterations, undamped.newton_iterations);
+  EXPECT_EQ(four.last.head_position, undamped.last.head_position);
+  EXPECT_LT(four.newton_iterations, two.newton_iterations);
+  ::testing::Test::RecordProperty("subdivided_steps_window_2",
+                                  std::to_string(two.subdivided_steps));
+}
+
+// A two-cycle is still caught with the four-update window: granular jamming at a stop (the case
+// the damped retry exists for, docs/model.md 1.10) on the same robot runs on through the damped
+// retry, where the run without it stops by a solver failure.
+TEST(NewtonIterationPath, FourUpdateStagnationWindowStillHandsATwoCycleToTheDampedRetry) {
+  const std::string config = "identification/interface_4tails_coarse.yaml";
+  const std::vector<std::string> jamming = {"motor.omega_rpm=240", "solver.residual_tolerance=1e-7",
+                                            "effects.granular_jamming.stiffness=100",
+                                            "effects.granular_jamming.release_force=0.01"};
+  auto with = [&](const std::string& setting) {
+    std::vector<std::string> o = jamming;
+    o.push_back(setting);
+    return runPath(config, o, 1.5, false);
+  };
+  const PathRun four = with("solver.stagnation_updates=4");
+  EXPECT_GT(four.damped_retries, 0);
+  EXPECT_THROW(with("solver.damped_retry=false"), SolverFailure);
 }
 
 TEST(NewtonIterationPath, ProfileAccountsForTheStep) {

@@ -154,6 +154,9 @@ void parseSolver(FieldReader r, SimulationConfig& c) {
   o.step_tolerance = r.number("step_tolerance", o.step_tolerance, 0.0, 1e-3);
   o.max_iterations = r.integer("max_iterations", o.max_iterations, 1, 1000);
   o.damped_retry = r.flag("damped_retry", o.damped_retry);
+  o.stagnation_updates =
+      r.integer("stagnation_updates", o.stagnation_updates, NewtonOptions::kMinStagnationUpdates,
+                NewtonOptions::kMaxStagnationUpdates);
   o.max_subdivision_depth = r.integer("max_subdivision_depth", o.max_subdivision_depth, 0, 20);
   o.jacobian_reuse = r.number("jacobian_reuse", o.jacobian_reuse, 0.0, 1.0);
   o.krylov_iterations = r.integer("krylov_iterations", o.krylov_iterations, 0, 200);

@@ -1,9 +1,12 @@
 // ImplicitStepper's Newton solve of an implicit Euler step (docs/model.md 1.10).
 #include "flagella_sim/solver/implicit_stepper.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "flagella_sim/elastic/bend_twist_energy.h"
 #include "flagella_sim/elastic/stretching_energy.h"
@@ -36,7 +39,8 @@ constexpr double kStagnationResidualFactor = 1e3;
 constexpr double kArmijoFraction = 1e-4;
 constexpr int kMaxBacktracks = 14;
 // Plain Newton is stagnating when, from this iteration on, the residual is above this fraction
-// of its value two iterations earlier while still far from the tolerance (not round-off).
+// per two updates of its value NewtonOptions::stagnation_updates iterations earlier while still
+// far from the tolerance (not round-off).
 constexpr int kStagnationCheckStart = 4;
 constexpr double kStagnationRatio = 0.5;
 // Chord updates (NewtonOptions::jacobian_reuse) only in the last stretch of convergence: with the
@@ -241,6 +245,13 @@ ImplicitStepper::Attempt ImplicitStepper::solveStep(const RodState& start, RodSt
 }
 
 void ImplicitStepper::beginAttempt(double dt, double motor_offset, double viscosity, bool damped) {
+  // the residual history (NewtonProgress) holds the window; options() may change between steps
+  if (options_.stagnation_updates < NewtonOptions::kMinStagnationUpdates ||
+      options_.stagnation_updates > NewtonOptions::kMaxStagnationUpdates)
+    throw std::invalid_argument("NewtonOptions::stagnation_updates must be in [" +
+                                std::to_string(NewtonOptions::kMinStagnationUpdates) + ", " +
+                                std::to_string(NewtonOptions::kMaxStagnationUpdates) + "], got " +
+                                std::to_string(options_.stagnation_updates));
   motor_twist_.tau_bar = motor_tau_bar0_ + motor_offset;
   attempt_viscosity_ = viscosity;
   attempt_dt_ = dt;
@@ -308,9 +319,10 @@ ImplicitStepper::IterateVerdict ImplicitStepper::testIterate(const RodState& sta
 
 bool ImplicitStepper::isStagnating(int iter, double residual, const NewtonProgress& progress,
                                    bool damped) const {
-  return !damped && options_.damped_retry && iter >= kStagnationCheckStart &&
+  const int window = options_.stagnation_updates;
+  return !damped && options_.damped_retry && iter >= std::max(kStagnationCheckStart, window) &&
          residual > kStagnationResidualFactor * options_.residual_tolerance &&
-         residual > kStagnationRatio * progress.residualOf(iter - 2);
+         residual > std::pow(kStagnationRatio, 0.5 * window) * progress.residualOf(iter - window);
 }
 
 const char* ImplicitStepper::computeUpdate(const RodState& start, double dt, int iter,

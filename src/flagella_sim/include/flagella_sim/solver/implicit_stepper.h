@@ -101,10 +101,14 @@ class ImplicitStepper {
   struct NewtonProgress {
     /// The last update reused the factored Jacobian (NewtonOptions::jacobian_reuse).
     bool last_update_chord = false;
-    double residuals[3] = {0.0, 0.0, 0.0};  ///< scaled residuals of the last three iterates
-    /// Of iterate `iter` (one of the last three: iter >= current iterate - 2).
-    double residualOf(int iter) const { return residuals[(iter + 3) % 3]; }
-    void record(int iter, double residual) { residuals[iter % 3] = residual; }
+    /// Scaled residuals of the last kHistory iterates (NewtonOptions::stagnation_updates looks
+    /// back at most 12 updates).
+    static constexpr int kHistory = 16;
+    static_assert(NewtonOptions::kMaxStagnationUpdates < kHistory);
+    double residuals[kHistory] = {};
+    /// Of iterate `iter` (one of the last kHistory: iter >= current iterate - kHistory + 1).
+    double residualOf(int iter) const { return residuals[(iter + kHistory) % kHistory]; }
+    void record(int iter, double residual) { residuals[iter % kHistory] = residual; }
   };
   enum class IterateVerdict { kConverged, kFailed, kUpdate };
   /// What drives a (sub)step ending at t_next: the effects' viscosity and the motor's speed.

@@ -19,6 +19,15 @@ struct NewtonOptions {
   /// on a regularised sign function, e.g. granular jamming at a stop). Steps that converge
   /// without it are not affected.
   bool damped_retry = true;
+  /// Plain Newton is handed to the damped retry as stagnating when, from its fourth update on,
+  /// the scaled residual has not fallen by half per two updates over the last this many updates
+  /// (residual > 0.5^(n/2) x the residual n updates earlier) while still far from the tolerance.
+  /// 2 (default): not halved in two updates. A longer window lets a Newton iteration that
+  /// alternates between a large and a falling residual, as on a robot turning tens of degrees per
+  /// step, converge on its own; a two-cycle is still caught, n/2 updates later at most
+  /// (docs/model.md 1.10).
+  int stagnation_updates = 2;
+  static constexpr int kMinStagnationUpdates = 2, kMaxStagnationUpdates = 12;
   /// On failure the step is split in two halves, recursively, up to this depth (2^depth pieces).
   int max_subdivision_depth = 6;
   double force_scale = 1.0;   ///< [N], e.g. EI/L^2 of a flexible tail
