@@ -49,6 +49,15 @@ PathRun runPath(const std::string& config, std::vector<std::string> overrides, d
   return out;
 }
 
+// The interface robot's discovery config (dt = 0.05 s), as flagella_discovery_bench runs it.
+const std::string kInterfaceDiscoveryConfig = "identification/interface_4tails_coarse.yaml";
+
+// `overrides` with `setting` added.
+std::vector<std::string> with(std::vector<std::string> overrides, const std::string& setting) {
+  overrides.push_back(setting);
+  return overrides;
+}
+
 void expectSameAnswerWithFewerJacobians(const std::string& config,
                                         const std::vector<std::string>& overrides, double seconds) {
   SCOPED_TRACE(config);
@@ -89,16 +98,13 @@ TEST(NewtonIterationPath, InterfaceRobotSameAnswerFewerJacobians) {
 // (1e-7): the rotating predictor (docs/model.md 1.10) and the linear one converge to the same
 // steps, the rotating one in fewer Newton iterations.
 TEST(NewtonIterationPath, CoarseInterfaceRobotRotatingPredictorSameAnswerFewerIterations) {
-  const std::string config = "identification/interface_4tails_coarse.yaml";
   const std::vector<std::string> overrides = {"motor.omega_rpm=120",
                                               "solver.residual_tolerance=1e-7"};
   const double seconds = 5.0;
-  auto with = [&](const char* predictor) {
-    std::vector<std::string> o = overrides;
-    o.push_back(std::string("solver.predictor=") + predictor);
-    return runPath(config, o, seconds, false);
-  };
-  const PathRun rotating = with("rotating"), linear = with("linear");
+  const PathRun rotating = runPath(kInterfaceDiscoveryConfig,
+                                   with(overrides, "solver.predictor=rotating"), seconds, false);
+  const PathRun linear = runPath(kInterfaceDiscoveryConfig,
+                                 with(overrides, "solver.predictor=linear"), seconds, false);
   const double travel = linear.max_speed * seconds;
   ASSERT_GT(travel, 0.0);
   EXPECT_LT((rotating.last.head_position - linear.last.head_position).norm(), 1e-4 * travel);
@@ -123,19 +129,16 @@ TEST(NewtonIterationPath, CoarseInterfaceRobotRotatingPredictorSameAnswerFewerIt
 // (solver.stagnation_updates) no step is, and the run is the one without the damped retry at
 // all, update for update (docs/model.md 1.10).
 TEST(NewtonIterationPath, FourUpdateStagnationWindowLetsAnAlternatingNewtonConverge) {
-  const std::string config = "identification/interface_4tails_coarse.yaml";
   const std::vector<std::string> overrides = {"motor.omega_rpm=240",
                                               "solver.residual_tolerance=1e-7",
                                               "effects.interface_lateral_force.C_yr=0.3"};
   const double seconds = 10.0;
-  auto with = [&](const std::string& setting) {
-    std::vector<std::string> o = overrides;
-    o.push_back(setting);
-    return runPath(config, o, seconds, false);
+  auto run = [&](const std::string& setting) {
+    return runPath(kInterfaceDiscoveryConfig, with(overrides, setting), seconds, false);
   };
-  const PathRun four = with("solver.stagnation_updates=4");
-  const PathRun two = with("solver.stagnation_updates=2");
-  const PathRun undamped = with("solver.damped_retry=false");
+  const PathRun four = run("solver.stagnation_updates=4");
+  const PathRun two = run("solver.stagnation_updates=2");
+  const PathRun undamped = run("solver.damped_retry=false");
   EXPECT_EQ(four.subdivided_steps, 0);
   EXPECT_EQ(four.damped_retries, 0);
   EXPECT_GT(two.subdivided_steps, 0);
@@ -151,18 +154,16 @@ TEST(NewtonIterationPath, FourUpdateStagnationWindowLetsAnAlternatingNewtonConve
 // the damped retry exists for, docs/model.md 1.10) on the same robot runs on through the damped
 // retry, where the run without it stops by a solver failure.
 TEST(NewtonIterationPath, FourUpdateStagnationWindowStillHandsATwoCycleToTheDampedRetry) {
-  const std::string config = "identification/interface_4tails_coarse.yaml";
   const std::vector<std::string> jamming = {"motor.omega_rpm=240", "solver.residual_tolerance=1e-7",
                                             "effects.granular_jamming.stiffness=100",
                                             "effects.granular_jamming.release_force=0.01"};
-  auto with = [&](const std::string& setting) {
-    std::vector<std::string> o = jamming;
-    o.push_back(setting);
-    return runPath(config, o, 1.5, false);
-  };
-  const PathRun four = with("solver.stagnation_updates=4");
+  const double seconds = 1.5;
+  const PathRun four = runPath(kInterfaceDiscoveryConfig,
+                               with(jamming, "solver.stagnation_updates=4"), seconds, false);
   EXPECT_GT(four.damped_retries, 0);
-  EXPECT_THROW(with("solver.damped_retry=false"), SolverFailure);
+  EXPECT_THROW(runPath(kInterfaceDiscoveryConfig, with(jamming, "solver.damped_retry=false"),
+                       seconds, false),
+               SolverFailure);
 }
 
 TEST(NewtonIterationPath, ProfileAccountsForTheStep) {
