@@ -8,6 +8,15 @@
 namespace flagella {
 namespace identify {
 
+namespace {
+
+/// Why a fit ended, for the progress lines: the minimiser's own message.
+std::string stoppedBecause(const FitResult& fit) {
+  return (fit.converged ? "converged: " : "not converged: ") + fit.message;
+}
+
+}  // namespace
+
 ModelOutcome Identification::fitModelOutcome(const std::vector<const Candidate*>& effects,
                                              const ModelOutcome& reference) {
   ModelOutcome out = fitOnTraining(effects, reference);
@@ -74,8 +83,9 @@ ModelOutcome Identification::fitFrom(const std::vector<const Candidate*>& effect
       say("    fit failed: " + out.note);
       return out;
     }
-    say(formatted("    features: %.0f iterations, chi^2 %.4g; then the samples", stage.iterations,
-                  stage.chi_square));
+    say(formatted("    features: %.0f iterations, chi^2 %.4g (", stage.iterations,
+                  stage.chi_square) +
+        stoppedBecause(stage) + "); then the samples");
   }
   const FitResult fit = fitModel(model, evaluator_, options);
   out.evaluations += fit.evaluations;
@@ -96,8 +106,9 @@ ModelOutcome Identification::fitFrom(const std::vector<const Candidate*>& effect
   out.extra_parameters = static_cast<int>(model.parameters().size()) - model.baselineCount();
   out.train_chi_square = fit.chi_square;
   out.train_count = fit.residual_count;
-  say(formatted("    %.0f model evaluations, %.0f iterations; training chi^2 %.4g", out.evaluations,
-                fit.iterations, out.train_chi_square));
+  say(formatted("    %.0f model evaluations, %.0f iterations; training chi^2 %.4g (",
+                out.evaluations, fit.iterations, out.train_chi_square) +
+      stoppedBecause(fit) + ")");
   return out;
 }
 

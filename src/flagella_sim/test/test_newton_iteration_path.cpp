@@ -124,10 +124,10 @@ TEST(NewtonIterationPath, CoarseInterfaceRobotRotatingPredictorSameAnswerFewerIt
 // strong lateral force of the discovery case strong_lateral_4_tails (C_yr 0.3), at the fits'
 // tolerance: plain Newton alternates between a large and a falling residual (the second update
 // raises it about 1000-fold, the third brings it below the first) and converges in about 12
-// updates. Judged over two updates (the default) it is taken for stagnating and handed to the
-// damped retry, which crawls, and the step is subdivided; judged over four
-// (solver.stagnation_updates) no step is, and the run is the one without the damped retry at
-// all, update for update (docs/model.md 1.10).
+// updates. Judged over two updates (the solver's default) it is taken for stagnating and handed to
+// the damped retry, which crawls, and the step is subdivided; judged over four
+// (solver.stagnation_updates, which this config sets since 2026-12-07) no step is, and the run is
+// the one without the damped retry at all, update for update (docs/model.md 1.10).
 TEST(NewtonIterationPath, FourUpdateStagnationWindowLetsAnAlternatingNewtonConverge) {
   const std::vector<std::string> overrides = {"motor.omega_rpm=240",
                                               "solver.residual_tolerance=1e-7",

@@ -65,7 +65,8 @@ const EffectDescriptor& interfaceLateralForceEffect() {
     h.signature = "circling: a steady yaw rate that reverses with the sign of rotation";
     h.needs = kHeading;
     h.variables = {{"C_yr", "C_yr", false, "", -50.0, 50.0, false, 0.0}};
-    h.starts = {{-1e-1}, {-1e-2}, {-1e-3}, {1e-3}, {1e-2}, {1e-1}};  // both signs, three decades
+    h.starts = {{-1.0}, {-1e-1}, {-1e-2}, {-1e-3},
+                {1e-3}, {1e-2},  {1e-1},  {1.0}};  // both signs, four decades
     h.typical = {{"C_yr", 2e-3, 8e-3, true}};
     // a helical swimmer's head spins slowly (a few rpm): only a head close to the surface
     // (C_yr of order 0.1; the profile integral reaches 2 at a half-immersed head) shows in 40 s
