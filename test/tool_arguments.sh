@@ -46,6 +46,13 @@ expect_bad_input "square.yaml" "${steer[@]}" --config "$cfg/helical_steering.yam
 expect_bad_input "needs a robot with a slider" "$bin/flagella_steer_robustness" \
   --calibration "$cfg/calibration/helical_steering.yaml" --config "$cfg/helical_robot.yaml" \
   --waypoints "$cfg/paths/steering_demo.yaml"
+# A mission set names the waypoint file it cannot read, before any run.
+expect_bad_input "none_mission.yaml" "$bin/flagella_steer_robustness" \
+  --calibration "$cfg/calibration/helical_steering.yaml" --config "$cfg/helical_steering.yaml" \
+  --waypoints "$cfg/paths/steering_demo.yaml" "$work/none_mission.yaml"
+expect_bad_input "square.yaml" "$bin/flagella_steer_robustness" \
+  --calibration "$cfg/calibration/helical_steering.yaml" --config "$cfg/helical_steering.yaml" \
+  --waypoints "$cfg/paths/steering_demo.yaml" "$cfg/paths/square.yaml" --runs 1
 # A model-error key the config lacks fails before the reference run (which takes minutes).
 expect_bad_input "model error 'k_t'" "$bin/flagella_steer_robustness" \
   --calibration "$cfg/calibration/helical_steering.yaml" --config "$cfg/helical_steering.yaml" \

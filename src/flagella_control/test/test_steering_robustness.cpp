@@ -8,7 +8,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "flagella_control/steering_robustness.h"
 
@@ -37,7 +40,7 @@ TEST(SteeringRobustness, OnAWrongModelTheClosedLoopReachesAClimbThatTheNominalSc
   mission.course_time = 30.0;  // [s] of straight cruise give the start frame's x
   const RobustnessReport report = runRobustness(options, calibration, mission, SteeringGains{});
 
-  ASSERT_EQ(report.reference.reached, 1) << "the nominal run itself misses the climb";
+  ASSERT_EQ(report.references.at(0).reached, 1) << "the nominal run itself misses the climb";
   ASSERT_EQ(report.runs.size(), 2u);
   const RobustnessRun& closed = report.runs[0];
   const RobustnessRun& open = report.runs[1];
@@ -80,7 +83,7 @@ TEST(SteeringRobustness, OnTheSourceRobotAWrongModelsClosedLoopPassesTheClimbThe
   mission.course_time = 30.0;  // [s] of straight cruise give the start frame's x
   const RobustnessReport report = runRobustness(options, calibration, mission, gains);
 
-  ASSERT_EQ(report.reference.reached, 1) << "the nominal run itself misses the climb";
+  ASSERT_EQ(report.references.at(0).reached, 1) << "the nominal run itself misses the climb";
   ASSERT_EQ(report.runs.size(), 2u);
   const RobustnessRun& closed = report.runs[0];
   const RobustnessRun& open = report.runs[1];
@@ -94,6 +97,78 @@ TEST(SteeringRobustness, OnTheSourceRobotAWrongModelsClosedLoopPassesTheClimbThe
       << "open loop passed within " << 1e3 * open.result.max_miss << " mm";
   std::printf("source robot: closed loop: miss %.1f mm at %.0f s; open loop: miss %.1f mm\n",
               1e3 * closed.result.max_miss, closed.result.time, 1e3 * open.result.max_miss);
+}
+
+// A mission set without the replay: no reference run, one closed loop per mission and seed, the
+// seed's wrong model the same in every mission. Cut at 31 s simulated (the missions' 30 s of
+// straight cruise place their waypoints at 30 s); what the runs reach is not the point here.
+TEST(SteeringRobustness, AMissionSetWithoutReplayRunsEachMissionOnEachSeedsWrongModel) {
+  RobustnessOptions options = oneWrongModelRun("helical_steering_source.yaml", 31.0);
+  options.runs = 2;
+  options.replay = false;
+  const SteeringCalibration calibration = loadSteeringCalibration(
+      std::string(FLAGELLA_CONFIG_DIR) + "/calibration/helical_steering_source.yaml");
+  WaypointMission ahead, climb;
+  ahead.points = {Eigen::Vector3d(0.100, 0.0, 0.0)};
+  climb.points = {Eigen::Vector3d(0.087, 0.0, 0.050)};
+  ahead.course_time = climb.course_time = 30.0;
+  ahead.tolerance = climb.tolerance = 0.018;
+  const RobustnessReport report =
+      runRobustness(options, calibration, {{"ahead", ahead}, {"climb", climb}}, SteeringGains{});
+
+  EXPECT_TRUE(report.references.empty());
+  EXPECT_EQ(report.missions, (std::vector<std::string>{"ahead", "climb"}));
+  ASSERT_EQ(report.runs.size(), 4u);  // 2 missions x 2 seeds, closed loop only
+  std::map<unsigned, std::vector<std::pair<std::string, double>>> factors_of_seed;
+  for (std::size_t k = 0; k < report.runs.size(); ++k) {
+    const RobustnessRun& run = report.runs[k];
+    EXPECT_EQ(run.kind, "mismatched closed");
+    EXPECT_EQ(run.mission, k / 2);
+    EXPECT_EQ(run.seed, options.first_seed + k % 2);
+    EXPECT_TRUE(run.error.empty()) << run.error;
+    EXPECT_EQ(run.result.total, 1);
+    EXPECT_EQ(run.factors, drawModelErrors(options, run.seed));
+    if (!factors_of_seed.count(run.seed)) factors_of_seed[run.seed] = run.factors;
+    EXPECT_EQ(run.factors, factors_of_seed[run.seed]) << "seed " << run.seed;
+  }
+  EXPECT_NE(factors_of_seed[1], factors_of_seed[2]);  // seeds 1 and 2 draw different signs
+}
+
+// The set's tables count what the runs reached: a synthetic report (no simulation) in which seed
+// 1 passes "ahead" and misses "climb" (1 of 2 waypoints), seed 2 passes both.
+TEST(SteeringRobustness, TheSetSummaryCountsMissionsPerMissionAndPerSeed) {
+  RobustnessReport report;
+  report.missions = {"ahead", "climb"};
+  report.tolerances = {0.018, 0.018};
+  auto run = [](std::size_t mission, unsigned seed, int reached, double worst) {
+    RobustnessRun r;
+    r.kind = "mismatched closed";
+    r.mission = mission;
+    r.seed = seed;
+    r.result.total = 2;
+    r.result.reached = r.result.reached_in_order = reached;
+    r.result.miss = {0.005, worst};
+    r.result.max_miss = worst;
+    return r;
+  };
+  report.runs = {run(0, 1, 2, 0.010), run(1, 1, 1, 0.050), run(0, 2, 2, 0.012),
+                 run(1, 2, 2, 0.015)};
+  const std::string summary = robustnessSummary(report);
+  std::printf("%s", summary.c_str());
+  // all runs: 3 of 4 succeed, 7 of 8 waypoints; worst miss 50.0 mm
+  EXPECT_NE(summary.find("mismatched closed      4       75%      7 of 8"), std::string::npos);
+  EXPECT_NE(summary.find("ahead              mismatched closed      2    2 of 2        4 of 4"),
+            std::string::npos);
+  EXPECT_NE(summary.find("climb              mismatched closed      2    1 of 2        3 of 4"),
+            std::string::npos);
+  EXPECT_NE(summary.find("50.0 mm"), std::string::npos);
+  EXPECT_NE(summary.find("seed 1      1 of 2 (missed: climb)"), std::string::npos);
+  EXPECT_NE(summary.find("seed 2      2 of 2\n"), std::string::npos);
+  const std::string json = robustnessJson(report);
+  EXPECT_NE(json.find("{\"name\": \"climb\", \"tolerance_mm\": 18, \"reference\": null}"),
+            std::string::npos)
+      << json;
+  EXPECT_NE(json.find("\"mission\": \"climb\", \"seed\": 2"), std::string::npos) << json;
 }
 
 }  // namespace

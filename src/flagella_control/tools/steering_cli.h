@@ -5,8 +5,10 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -14,6 +16,7 @@
 
 #include "flagella_control/mass_transformer_controller.h"
 #include "flagella_control/steering_calibration.h"
+#include "flagella_control/steering_robustness.h"
 #include "flagella_control/waypoint_mission.h"
 #include "flagella_sim/core/parameter_set.h"
 #include "flagella_sim/simulation/simulation_config.h"
@@ -44,19 +47,28 @@ inline std::pair<std::string, double> assignment(const std::string& text, const 
 
 struct SteeringInputs {
   std::string config_path, waypoints_path, calibration_path;
+  std::vector<std::string> waypoints_paths;  ///< addTo(app, true): one or more missions
   std::vector<std::string> overrides;
   std::string schedule = "relax";
   std::string gains_path;                  ///< YAML gains file (SteeringGains::load), if any
   std::vector<std::string> gain_settings;  ///< name=value
 
-  /// Registers --config, --waypoints, --calibration, --set and --schedule on `app`.
-  void addTo(CLI::App& app) {
+  /// Registers --config, --waypoints, --calibration, --set and --schedule on `app`; with
+  /// `several_missions`, --waypoints takes one or more files (missions()).
+  void addTo(CLI::App& app, bool several_missions = false) {
     app.add_option("--config", config_path, "robot config YAML with a slider: section")
         ->required()
         ->check(CLI::ExistingFile);
-    app.add_option("--waypoints", waypoints_path, "waypoint YAML (config/paths)")
-        ->required()
-        ->check(CLI::ExistingFile);
+    if (several_missions)
+      app.add_option("--waypoints", waypoints_paths,
+                     "waypoint YAML (config/paths); several files: a mission set, each run on "
+                     "every seed")
+          ->required()
+          ->check(CLI::ExistingFile);
+    else
+      app.add_option("--waypoints", waypoints_path, "waypoint YAML (config/paths)")
+          ->required()
+          ->check(CLI::ExistingFile);
     app.add_option("--calibration", calibration_path,
                    "steering calibration YAML (flagella_steer_calibrate)")
         ->required()
@@ -83,6 +95,20 @@ struct SteeringInputs {
   /// The input files, loaded; one that cannot be read as its kind throws InputFileError (exit 2).
   SteeringCalibration calibration() const { return loadSteeringCalibration(calibration_path); }
   WaypointMission mission() const { return loadWaypointMission(waypoints_path); }
+  /// The missions of addTo(app, true), each named by its file's stem (by its path when two
+  /// stems coincide).
+  std::vector<NamedMission> missions() const {
+    std::vector<NamedMission> out;
+    for (const std::string& path : waypoints_paths) {
+      const std::string stem = std::filesystem::path(path).stem().string();
+      const bool shared = std::count_if(waypoints_paths.begin(), waypoints_paths.end(),
+                                        [&](const std::string& other) {
+                                          return std::filesystem::path(other).stem() == stem;
+                                        }) > 1;
+      out.push_back({shared ? path : stem, loadWaypointMission(path)});
+    }
+    return out;
+  }
   /// The robot config with the overrides; refused without a slider (the mass-transformer).
   flagella::SimulationConfig config(const std::vector<std::string>& with_overrides) const {
     flagella::SimulationConfig c = flagella::loadSimulationConfig(config_path, with_overrides);
