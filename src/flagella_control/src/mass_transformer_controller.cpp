@@ -101,6 +101,8 @@ void MassTransformerController::reset() {
   last_retrim_ = cycle_up_ = cycle_elevation_ = 0.0;
   within_since_ = aligned_since_ = 0.0;
   stall_reference_ = INFINITY;
+  reorient_until_ = 0.0;
+  reorient_up_ = reorient_left_ = reorient_motor_ = 1.0;
 }
 
 ControllerOutputs MassTransformerController::output(double motor, double slider,
@@ -180,6 +182,7 @@ bool MassTransformerController::turnPossible(double up, double left) const {
 }
 
 double MassTransformerController::motorCommand(double time) {
+  if (gains_.reorient) return reorientCommand(time);
   const double cruise = calibration_.cruise_omega;
   if (status_.in_cycle) {
     const double s = time - cycle_start_;
@@ -220,8 +223,8 @@ double MassTransformerController::motorCommand(double time) {
 
 double MassTransformerController::sliderCommand(double dt) {
   const double lo = sliderLow(), hi = sliderHigh();
-  if (status_.imu_stale) return last_slider_;  // no tilt: hold
-  if (gains_.cycle_pitch) {                    // at the park estimate, offset through a cycle
+  if (status_.imu_stale) return last_slider_;   // no tilt: hold
+  if (gains_.cycle_pitch || gains_.reorient) {  // at the park estimate, offset by a cycle or turn
     const double command = status_.park_estimate + status_.cycle_offset;
     status_.slider_saturated = command > hi || command < lo;
     return std::clamp(command, lo, hi);
@@ -346,12 +349,16 @@ ControllerOutputs MassTransformerController::step(const ControllerInputs& in) {
   const double motor = motorCommand(in.time);
   const double slider = sliderCommand(dt);
   status_.elevation = elevation_;
-  if (status_.flipping || status_.pitching) {
+  if (status_.reorienting) {
+    status_.mode = SteeringMode::MassTransformer;
+    status_.message = "turning in place by the slider's offset and the motor's direction";
+  } else if (status_.flipping || status_.pitching) {
     status_.mode = SteeringMode::MassTransformer;
     status_.message = status_.at_top     ? "turning at elevation until the azimuth points the way"
                       : status_.flipping ? "pitching to turn at elevation"
                                          : "changing elevation";
-  } else if (status_.in_cycle || std::abs(status_.azimuth_error) > gains_.turn_threshold) {
+  } else if (!gains_.reorient &&
+             (status_.in_cycle || std::abs(status_.azimuth_error) > gains_.turn_threshold)) {
     status_.mode = SteeringMode::BuckleTurn;
     status_.message = status_.in_cycle ? "buckle cycle" : "waiting for the flagellum's phase";
   } else {

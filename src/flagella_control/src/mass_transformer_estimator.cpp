@@ -60,8 +60,9 @@ void MassTransformerController::estimate(const ControllerInputs& in, double dt) 
   slider_lag_ += blend(dt, gains_.crab_lag_time) * (neutral() + offset - slider_lag_);
   if (gains_.steer_by_offset) setCrab(offsetCrab());
   // Position: dead reckoning at the calibrated speed (scaled by the rate below the threshold,
-  // 0 when stopped), then the camera fix.
-  const double rate = std::min(std::abs(last_motor_), calibration_.cruise_omega);
+  // 0 when stopped, backward when the motor runs reversed), then the camera fix.
+  const double rate =
+      std::clamp(last_motor_, -calibration_.cruise_omega, calibration_.cruise_omega);
   const Vec3 travel = directionFrom(azimuthOf(direction_) + status_.crab, elevationOf(direction_));
   position_ += calibration_.cruise_speed * (rate / calibration_.cruise_omega) * dt * travel;
   if (in.position_valid) {
@@ -144,7 +145,7 @@ void MassTransformerController::trimNeutral() {
   status_.trim_neutral = estimate;
   if (!gains_.trim_neutral || !std::isfinite(estimate)) return;
   // cycle_pitch: park is the pitch neutral less the robot's own pitching (calibrated).
-  if (gains_.cycle_pitch)
+  if (gains_.cycle_pitch || gains_.reorient)
     status_.park_estimate = std::clamp(estimate - ownPitchOffset(), sliderLow(), sliderHigh());
   const double shift = estimate - neutral();
   const double reach = gains_.max_crab / std::abs(calibration_.crab_per_slider);

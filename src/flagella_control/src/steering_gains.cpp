@@ -80,6 +80,21 @@ constexpr NamedGain kNamedGains[] = {
      "turn learning keeps the pulse rate above this multiple of omega_b"},
     {"max_pulse_factor", &SteeringGains::max_pulse_factor, "",
      "turn learning keeps the pulse rate below this multiple of omega_b"},
+    {"reorient_offset", &SteeringGains::reorient_offset, "m",
+     "reorient: slider offset from the park estimate while turning in place"},
+    {"reorient_omega", &SteeringGains::reorient_omega, "rad/s",
+     "reorient: motor rate, forward or reversed, while turning in place"},
+    {"reorient_dwell", &SteeringGains::reorient_dwell, "s",
+     "reorient: each slider-and-motor combination held this long"},
+    {"reorient_enter", &SteeringGains::reorient_enter, "rad",
+     "reorient: error of the direction of travel that starts a turn in place"},
+    {"reorient_exit", &SteeringGains::reorient_exit, "rad", "reorient: ... and ends it"},
+    {"reorient_full_error", &SteeringGains::reorient_full_error, "rad",
+     "reorient: the offset in full above this error, in proportion below"},
+    {"reorient_min_share", &SteeringGains::reorient_min_share, "",
+     "reorient: ... but at least this share of reorient_offset"},
+    {"reorient_balance", &SteeringGains::reorient_balance, "",
+     "reorient: an error component below this share of the error alternates its sign"},
 
     {"max_elevation", &SteeringGains::max_elevation, "rad", "limit of a leg's target elevation"},
     {"tilt_time_constant", &SteeringGains::tilt_time_constant, "s",
@@ -149,6 +164,13 @@ constexpr NamedFlag kNamedFlags[] = {
     {"cycle_pitch", &SteeringGains::cycle_pitch,
      "1: the elevation by buckle cycles alone, through the slider's offset held through each "
      "cycle (the slider otherwise at the park estimate, learnt from the cycles' turns)"},
+    {"reorient", &SteeringGains::reorient,
+     "1: turns in place by the slider's offset with the motor forward or reversed (the four "
+     "combinations turn the robot along the four diagonals), straight cruise between; no "
+     "buckle cycles"},
+    {"reorient_up_turns_right", &SteeringGains::reorient_up_turns_right,
+     "reorient: 1 if, forward, an offset that pitches the robot up turns it right (measured on "
+     "the source's left-handed robot); 0: left"},
 
 };
 }  // namespace
@@ -184,6 +206,14 @@ void SteeringGains::validate() const {
   requireInRange(kContext, "pulse_growth", pulse_growth, 0.0, 100.0);
   requireInRange(kContext, "min_pulse_factor", min_pulse_factor, 1.0, 10.0);
   requireInRange(kContext, "max_pulse_factor", max_pulse_factor, min_pulse_factor, 10.0);
+  requireInRange(kContext, "reorient_offset", reorient_offset, 1e-6, 0.01);
+  requireInRange(kContext, "reorient_omega", reorient_omega, 0.01, 100.0);
+  requireInRange(kContext, "reorient_dwell", reorient_dwell, 0.1, 600.0);
+  requireInRange(kContext, "reorient_exit", reorient_exit, 1e-3, M_PI);
+  requireInRange(kContext, "reorient_enter", reorient_enter, reorient_exit, M_PI);
+  requireInRange(kContext, "reorient_full_error", reorient_full_error, 1e-3, M_PI);
+  requireInRange(kContext, "reorient_min_share", reorient_min_share, 0.0, 1.0);
+  requireInRange(kContext, "reorient_balance", reorient_balance, 0.0, 1.0);
   requireInRange(kContext, "max_elevation", max_elevation, 0.0, flip_elevation);
   requireInRange(kContext, "tilt_time_constant", tilt_time_constant, 0.1, 600.0);
   requireInRange(kContext, "max_pitch_rate", max_pitch_rate, 1e-3, 10.0);

@@ -14,7 +14,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -84,6 +86,10 @@ struct Plant {
   double offset_crab = -2.5e4;  // [rad/m] of slider offset from the neutral (lagged)
   double offset_turn = -170.0;  // [rad/s per m]: azimuth rate of the head axis
   double slider_lag = -1e-3;    // [m]
+  // Azimuth rate of the head axis per metre of slider offset from the neutral, at the cruise
+  // rate, in proportion to the motor's signed rate: the turn that comes with the pitch changes
+  // side with the motor's direction (docs/model.md 7.4, reorient; measured on the simulator).
+  double reversible_turn = 0.0;  // [rad/s per m]
   fc::SteeringCalibration truth = calibration();
   fc::BuckleScheduleKind kind = fc::BuckleScheduleKind::Relax;
   double shaft = 0.0, cycle_left = -1.0, turn_up = 0.0, turn_left = 0.0, time = 0.0;
@@ -172,7 +178,9 @@ struct Plant {
     // The turn saturates while the pitch grows with the offset: the simulator turns about
     // 1.5 deg per deg of elevation at small offsets and 0.7 when the slider pitches the robot
     // (docs/model.md 7.4).
-    const double turn = offset_turn * std::clamp(slider - neutral, -60e-6, 60e-6) * dt;
+    const double turn =
+        offset_turn * std::clamp(slider - neutral, -60e-6, 60e-6) * dt +
+        reversible_turn * (slider - neutral) * out.motor_command / truth.cruise_omega * dt;
     forward = fc::directionFrom(fc::azimuthOf(forward) + precession + turn, new_elevation);
     // The offset's crab saturates (docs/model.md 7.4: about 65 deg at 80 um).
     const double course_crab =
@@ -397,6 +405,38 @@ double amplifiedUpPerSlider(const fc::SteeringCalibration& c) {
   return c.relax.up_per_slider - c.pitch_rate_per_slider * c.relax.cycleDuration();
 }
 
+// Turns in place (reorient): on a plant whose slider offset pitches the robot whichever way the
+// motor turns and turns it right when pitching up forward, left reversed, a waypoint 70 deg to
+// the left at level is reached with the motor run both ways and no buckle cycle; with the turn's
+// side taken the wrong way round (reorient_up_turns_right 0) every combination turns the robot
+// away, and the waypoint is missed.
+TEST(MassTransformerController, ReorientTurnsInPlaceByTheSlidersOffsetAndTheMotorsDirection) {
+  for (const bool right_sign : {true, false}) {
+    fc::SteeringGains gains = cyclePitchGains();
+    gains.cycle_pitch = false;
+    gains.reorient = true;
+    gains.reorient_up_turns_right = right_sign;
+    gains.reorient_omega = 0.5 * calibration().cruise_omega;
+    fc::MassTransformerController controller(mission({Vec3(0.02, 0.055, 0.0)}), calibration(),
+                                             gains);
+    Plant plant = legacyPlant();
+    plant.reversible_turn = -30.0;  // 1.5 mm of offset at cruise: 2.6 deg/s to the right
+    std::vector<double> motor;
+    run(controller, plant, 900.0, &motor);
+    const fc::SteeringStatus& st = controller.status();
+    std::printf("reorient_up_turns_right %d: %d reached, %ld dwells, distance %.1f mm\n",
+                right_sign, st.reached, st.reorient_dwells, 1e3 * st.distance);
+    EXPECT_EQ(st.cycles, 0);
+    if (right_sign) {
+      EXPECT_EQ(st.reached, 1) << "distance " << st.distance;
+      EXPECT_GE(st.reorient_dwells, 2);
+      EXPECT_LT(*std::min_element(motor.begin(), motor.end()), 0.0) << "never reversed";
+    } else {
+      EXPECT_EQ(st.reached, 0);
+    }
+  }
+}
+
 TEST(MassTransformerController, CyclePitchLearnsTheTrueParkFromTheCyclesTurns) {
   // The true park 15 um off the calibrated one: a cycle there turns 3.4 deg more up than
   // predicted. With learning the estimate comes within 2 um of the truth; without, it stays.
@@ -617,6 +657,18 @@ TEST(SteeringGains, AGainsFileSetsTheGainsItNamesAndNamesTheFieldItCannotRead) {
       fc::loadSteeringCalibration(std::string(FLAGELLA_CONFIG_DIR) +
                                   "/calibration/helical_steering_source.yaml"),
       source));
+  // The turns-in-place file for that robot too.
+  fc::SteeringGains reorient;
+  reorient.load(std::string(FLAGELLA_CONFIG_DIR) +
+                "/calibration/helical_steering_source_reorient_gains.yaml");
+  EXPECT_NO_THROW(reorient.validate());
+  EXPECT_TRUE(reorient.reorient);
+  EXPECT_FALSE(reorient.cycle_pitch);
+  EXPECT_NO_THROW(fc::MassTransformerController(
+      mission({Vec3(0.1, 0.0, 0.0)}),
+      fc::loadSteeringCalibration(std::string(FLAGELLA_CONFIG_DIR) +
+                                  "/calibration/helical_steering_source.yaml"),
+      reorient));
   struct Case {
     const char *text, *needle;
   };

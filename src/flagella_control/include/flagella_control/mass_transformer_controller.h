@@ -42,6 +42,11 @@
 //    travel, carried on at its measured azimuth rate for `exit_delay`, points within
 //    `exit_window` of the wanted azimuth, or after `max_turn_time`; a turn still missing is
 //    taken by the next pitch-up after `descent_holdoff`.
+//  - turns in place (`reorient`, instead of buckle cycles and the slider loop): the slider held
+//    `reorient_offset` off its park estimate with the motor at `reorient_omega` forward or
+//    reversed; the offset pitches the robot either way and the turn that comes with the pitch
+//    changes side with the motor's direction, so the four combinations turn the direction of
+//    travel along the four diagonals (mass_transformer_reorient.cpp).
 #pragma once
 
 #include <cmath>
@@ -129,11 +134,27 @@ struct SteeringGains {
   /// nearer the wanted turn, both as calibrated (and learnt alike): on the source's robot, pulses
   /// of 3 omega_b for 2 s turn it 8.8 deg (relax) or 28.9 deg (three_level) by phase.
   bool mixed_schedules = false;
-  double max_elevation = 0.6;         ///< limit of a leg's target elevation (34 deg) [rad]
-  double tilt_time_constant = 6.0;    ///< closed-loop time constant of the slider loop [s]
-  double max_pitch_rate = 0.15;       ///< the slider loop asks for no faster pitch [rad/s]
-  double tilt_integral_time = 12.0;   ///< its integral time [s]
-  double tilt_exit_threshold = 0.05;  ///< the elevation loop lets go below this error [rad]
+  /// Turns in place (docs/model.md 7.4): the slider offset +-reorient_offset from the park
+  /// estimate with the motor at +-reorient_omega, the four combinations pitching and turning the
+  /// robot along the four diagonals (up and right for a positive offset forward), held
+  /// reorient_dwell each, while the direction of travel is off by more than reorient_enter and
+  /// until it is within reorient_exit; cruise straight at the park estimate in between (no buckle
+  /// cycles). Needs the slider's calibrated pitch rate; the park estimate as cycle_pitch's.
+  bool reorient = false;
+  double reorient_offset = 1.5e-3;   ///< slider offset from the park estimate [m]
+  double reorient_omega = 2.0944;    ///< motor rate, either way (20 rpm) [rad/s]
+  double reorient_dwell = 4.0;       ///< each combination held this long [s]
+  double reorient_enter = 0.15;      ///< error of the direction of travel that starts it [rad]
+  double reorient_exit = 0.07;       ///< ... and ends it [rad]
+  double reorient_full_error = 0.3;  ///< the offset in full above this error, in proportion below
+  double reorient_min_share = 0.3;   ///< ... but at least this share of it
+  double reorient_balance = 0.4;     ///< a component below this share of the error alternates
+  bool reorient_up_turns_right = true;  ///< forward, a positive offset turns the robot right
+  double max_elevation = 0.6;           ///< limit of a leg's target elevation (34 deg) [rad]
+  double tilt_time_constant = 6.0;      ///< closed-loop time constant of the slider loop [s]
+  double max_pitch_rate = 0.15;         ///< the slider loop asks for no faster pitch [rad/s]
+  double tilt_integral_time = 12.0;     ///< its integral time [s]
+  double tilt_exit_threshold = 0.05;    ///< the elevation loop lets go below this error [rad]
   /// With offset steering the elevation loop integrates only after this long without settling
   /// (a neutral far off) [s]: short corrections would move the neutral by tens of micrometres.
   double tilt_integral_delay = 15.0;
@@ -218,6 +239,8 @@ struct SteeringStatus {
   double phase_shift = 0.0;       ///< cycle_pitch: learnt correction of the phase offset [rad]
   double turn_gain = 1.0;         ///< cycle_pitch: learnt turn size over the calibrated model's
   long turn_updates = 0;          ///< cycle_pitch: cycles whose turn corrected size gain or phase
+  bool reorienting = false;       ///< reorient: turning in place
+  long reorient_dwells = 0;       ///< reorient: combinations held so far
   bool turn_possible = true;      ///< a buckle cycle can turn toward the wanted side
   long cycles = 0;                ///< buckle cycles started
   bool flipping = false;          ///< a turn at elevation is under way
@@ -275,6 +298,7 @@ class MassTransformerController : public ControllerCore {
   /// ... the least of that over the phases [rad].
   double bestMiss(const BuckleSchedule& schedule, double wanted_up, double wanted_left) const;
   double cyclePitchCommand(double time);  ///< cycle_pitch: the motor command (cycles)
+  double reorientCommand(double time);    ///< reorient: the motor command (turns in place)
   /// cycle_pitch: after a cycle has settled, its measured up-turn corrects the park estimate.
   void learnPark();
   /// cycle_pitch with turn_learning: after a cycle has settled, its measured turn corrects the
@@ -332,6 +356,9 @@ class MassTransformerController : public ControllerCore {
   double top_since_ = 0.0;  ///< when the robot reached the turn's elevation [s]
   double lean_azimuth_ = 0.0, sweep_rate_ = 0.0;  ///< [rad], its rate [rad/s]
   double holdoff_until_ = 0.0;
+  double reorient_until_ = 0.0;                     ///< reorient: the held combination ends [s]
+  double reorient_up_ = 1.0, reorient_left_ = 1.0;  ///< reorient: the combination's diagonal
+  double reorient_motor_ = 1.0;                     ///< reorient: +1 forward, -1 reversed
   double flip_sign_ = 1.0;  ///< +1: the turn at elevation pitches up, -1: down
   double elevation_ = 0.0;  ///< filtered accelerometer elevation of travel
   double roll_ = 0.0, shaft_ = 0.0;
