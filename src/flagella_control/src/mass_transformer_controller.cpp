@@ -153,7 +153,7 @@ void MassTransformerController::guide(double time) {
     stall_reference_ = abs_error;
   }
   const bool stalled = gains_.stall_time > 0.0 && time - aligned_since_ > gains_.stall_time;
-  if (!gains_.cycle_pitch && !status_.flipping && time >= holdoff_until_ &&
+  if (!sliderAtPark() && !status_.flipping && time >= holdoff_until_ &&
       (abs_error > gains_.large_turn || stalled ||
        (!status_.turn_possible && abs_error > gains_.blocked_turn))) {
     status_.flipping = true;
@@ -223,8 +223,8 @@ double MassTransformerController::motorCommand(double time) {
 
 double MassTransformerController::sliderCommand(double dt) {
   const double lo = sliderLow(), hi = sliderHigh();
-  if (status_.imu_stale) return last_slider_;   // no tilt: hold
-  if (gains_.cycle_pitch || gains_.reorient) {  // at the park estimate, offset by a cycle or turn
+  if (status_.imu_stale) return last_slider_;  // no tilt: hold
+  if (sliderAtPark()) {  // at the park estimate, offset by a cycle or a turn in place
     const double command = status_.park_estimate + status_.cycle_offset;
     status_.slider_saturated = command > hi || command < lo;
     return std::clamp(command, lo, hi);

@@ -144,8 +144,8 @@ void MassTransformerController::trimNeutral() {
   const double estimate = trim_.neutral();
   status_.trim_neutral = estimate;
   if (!gains_.trim_neutral || !std::isfinite(estimate)) return;
-  // cycle_pitch: park is the pitch neutral less the robot's own pitching (calibrated).
-  if (gains_.cycle_pitch || gains_.reorient)
+  // cycle_pitch, reorient: park is the pitch neutral less the robot's own pitching (calibrated).
+  if (sliderAtPark())
     status_.park_estimate = std::clamp(estimate - ownPitchOffset(), sliderLow(), sliderHigh());
   const double shift = estimate - neutral();
   const double reach = gains_.max_crab / std::abs(calibration_.crab_per_slider);

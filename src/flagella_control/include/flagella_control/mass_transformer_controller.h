@@ -297,6 +297,9 @@ class MassTransformerController : public ControllerCore {
                    double& offset, double& up, double& left) const;
   /// ... the least of that over the phases [rad].
   double bestMiss(const BuckleSchedule& schedule, double wanted_up, double wanted_left) const;
+  /// cycle_pitch and reorient: the slider sits at the park estimate, offset only by a cycle or a
+  /// turn in place (no slider loop, no turn at elevation).
+  bool sliderAtPark() const { return gains_.cycle_pitch || gains_.reorient; }
   double cyclePitchCommand(double time);  ///< cycle_pitch: the motor command (cycles)
   double reorientCommand(double time);    ///< reorient: the motor command (turns in place)
   /// cycle_pitch: after a cycle has settled, its measured up-turn corrects the park estimate.
