@@ -117,14 +117,15 @@ ControllerOutputs MassTransformerController::output(double motor, double slider,
 
 void MassTransformerController::guide(double time) {
   const int count = static_cast<int>(world_points_.size());
-  // A waypoint counts as reached within reach_fraction of the tolerance, or within the
-  // tolerance once the distance grows again (the closest approach has passed): the estimate's
-  // error would otherwise eat the margin.
+  // A waypoint counts as reached within reach_fraction of the tolerance, or within
+  // pass_fraction of it once the distance grows again (the closest approach has passed): the
+  // estimate's error would otherwise eat the margin.
   while (status_.waypoint < count) {
     const double distance = (world_points_[status_.waypoint] - position_).norm();
     closest_ = std::min(closest_, distance);
     const bool close = distance <= gains_.reach_fraction * mission_.tolerance;
-    const bool passing = distance <= mission_.tolerance && distance > closest_ + gains_.pass_margin;
+    const bool passing = distance <= gains_.pass_fraction * mission_.tolerance &&
+                         distance > closest_ + gains_.pass_margin;
     if (!close && !passing) break;
     ++status_.waypoint;
     ++status_.reached;

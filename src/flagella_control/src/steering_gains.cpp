@@ -127,8 +127,10 @@ constexpr NamedGain kNamedGains[] = {
     {"fix_gain", &SteeringGains::fix_gain, "", "position estimate: p += gain (camera fix - p)"},
     {"reach_fraction", &SteeringGains::reach_fraction, "",
      "a waypoint is reached within this share of the mission's tolerance"},
+    {"pass_fraction", &SteeringGains::pass_fraction, "",
+     "... or within this share of it once the distance grew by pass_margin past its minimum"},
     {"pass_margin", &SteeringGains::pass_margin, "m",
-     "... or within the tolerance once the distance grew by this past its minimum"},
+     "the growth past the closest approach that counts a pass (see pass_fraction)"},
     {"course_filter_time", &SteeringGains::course_filter_time, "s",
      "filter of the velocity from camera fixes"},
     {"crab_filter_time", &SteeringGains::crab_filter_time, "s",
@@ -231,6 +233,7 @@ void SteeringGains::validate() const {
   requireInRange(kContext, "slider_margin", slider_margin, 0.0, 0.01);
   requireInRange(kContext, "fix_gain", fix_gain, 0.0, 1.0);
   requireInRange(kContext, "reach_fraction", reach_fraction, 0.0, 1.0);
+  requireInRange(kContext, "pass_fraction", pass_fraction, 0.0, 1.0);
   requireInRange(kContext, "pass_margin", pass_margin, 0.0, 1.0);
   requireInRange(kContext, "course_filter_time", course_filter_time, 0.0, 600.0);
   requireInRange(kContext, "crab_filter_time", crab_filter_time, 0.0, 3600.0);

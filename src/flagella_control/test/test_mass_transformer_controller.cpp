@@ -1040,6 +1040,24 @@ TEST(MassTransformerController, AWaypointPassedWithinTheToleranceCountsAfterTheC
   EXPECT_NEAR(finished_x, 0.03 + passed, 1.5e-3);
 }
 
+TEST(MassTransformerController, APassBeyondPassFractionOfTheToleranceDoesNotCount) {
+  // The same straight path, 6 mm to the side of the waypoint, with pass_fraction 0.5: a pass
+  // counts within 5 mm only, so the waypoint is still ahead 10 mm past its closest approach.
+  fc::SteeringGains gains = legacyGains();
+  gains.turn_threshold = gains.max_buckle_error = 1.5;
+  gains.large_turn = gains.blocked_turn = M_PI;
+  gains.pass_fraction = 0.5;
+  fc::MassTransformerController controller(mission({Vec3(0.03, 0.006, 0.0)}, 0.01), calibration(),
+                                           gains);
+  Plant plant = legacyPlant();
+  plant.roll_rate = 0.0;
+  for (long k = 0; k < 200 * kRate && plant.position.x() < 0.04; ++k)
+    plant.apply(controller.step(plant.sense()));
+  ASSERT_GE(plant.position.x(), 0.04) << "the plant did not get past the waypoint";
+  EXPECT_EQ(controller.status().reached, 0);
+  EXPECT_NE(controller.status().mode, fc::SteeringMode::Finished);
+}
+
 TEST(MassTransformerController, StepDoesNotAllocate) {
   fc::MassTransformerController controller(mission({Vec3(0.5, 0.1, 0.1), Vec3(0.0, 0.0, 0.0)}),
                                            calibration());

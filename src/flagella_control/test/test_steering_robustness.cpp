@@ -64,19 +64,24 @@ TEST(SteeringRobustness, OnAWrongModelTheClosedLoopReachesAClimbThatTheNominalSc
               1e3 * mission.tolerance);
 }
 
-// The source's steering robot with its shipped calibration and gains (buckle cycles of 3 omega_b
-// for 2 s, both schedules mixed): seed 1's wrong model (E and eps 20 % low among others) on the
-// restored demo's first leg, a climb of 30 deg over 100 mm. The closed loop must pass it within
-// the tolerance; the nominal schedule replayed blind must not (its cycles turn the wrong model
-// elsewhere).
-TEST(SteeringRobustness, OnTheSourceRobotAWrongModelsClosedLoopPassesTheClimbTheScheduleMisses) {
-  // [s]; the demo's runs pass the climb at about 76 s
-  const RobustnessOptions options = oneWrongModelRun("helical_steering_source.yaml", 150.0);
+// The source's steering robot with its shipped calibration and the turns-in-place gains
+// (helical_steering_source_reorient_gains.yaml: the slider 1.5 mm off park with the motor at
+// 20 rpm forward or reversed, no buckle cycles): seed 4's wrong model (E 20 % high; eps, C_t,
+// C_r, l_0 20 % low; the model whose buckle cycles turn least predictably) on the restored
+// demo's first leg, a climb of 30 deg over 100 mm. The closed loop must pass it within the
+// tolerance; the nominal schedule replayed blind must not (the wrong model pitches and turns at
+// other rates, so the same turns in place point it elsewhere).
+TEST(SteeringRobustness, OnTheSourceRobotAWrongModelsTurnsInPlacePassTheClimbTheScheduleMisses) {
+  // [s]; this model's closed loop passes the climb at about 171 s, the nominal one at 110 s
+  RobustnessOptions options = oneWrongModelRun("helical_steering_source.yaml", 200.0);
+  options.first_seed = 4;
   const SteeringCalibration calibration = loadSteeringCalibration(
       std::string(FLAGELLA_CONFIG_DIR) + "/calibration/helical_steering_source.yaml");
   SteeringGains gains;
-  gains.load(std::string(FLAGELLA_CONFIG_DIR) + "/calibration/helical_steering_source_gains.yaml");
+  gains.load(std::string(FLAGELLA_CONFIG_DIR) +
+             "/calibration/helical_steering_source_reorient_gains.yaml");
   gains.validate();
+  ASSERT_TRUE(gains.reorient);
   WaypointMission mission;  // the restored demo's first leg (config/paths/source/demo.yaml)
   mission.points = {Eigen::Vector3d(0.121, 0.0, 0.050)};
   mission.tolerance = 0.018;   // [m], half a head length
@@ -90,13 +95,17 @@ TEST(SteeringRobustness, OnTheSourceRobotAWrongModelsClosedLoopPassesTheClimbThe
   ASSERT_TRUE(closed.error.empty()) << closed.error;
   ASSERT_TRUE(open.error.empty()) << open.error;
   EXPECT_EQ(closed.factors, open.factors);
+  for (const auto& [key, factor] : closed.factors)
+    EXPECT_NEAR(std::abs(factor - 1.0), options.error, 1e-12) << key;
   EXPECT_FALSE(closed.result.halted) << closed.result.halt_reason;
   EXPECT_EQ(closed.result.reached, 1)
       << "closed loop missed by " << 1e3 * closed.result.max_miss << " mm";
   EXPECT_EQ(open.result.reached, 0)
       << "open loop passed within " << 1e3 * open.result.max_miss << " mm";
-  std::printf("source robot: closed loop: miss %.1f mm at %.0f s; open loop: miss %.1f mm\n",
-              1e3 * closed.result.max_miss, closed.result.time, 1e3 * open.result.max_miss);
+  std::printf(
+      "source robot, turns in place: closed loop: miss %.1f mm, reached at %.0f s; open loop: "
+      "miss %.1f mm\n",
+      1e3 * closed.result.max_miss, closed.result.reach_time.at(0), 1e3 * open.result.max_miss);
 }
 
 // A mission set without the replay: no reference run, one closed loop per mission and seed, the

@@ -14,8 +14,8 @@
 // elevation from the accelerometer (filtered), the head roll and the shaft angle (integral of
 // the commanded rate) for the flagellum's phase, and the position dead-reckoned at the
 // calibrated cruise speed and pulled toward each camera fix. Guidance: toward the current
-// waypoint; reached within `reach_fraction` of the mission's tolerance, or within it once the
-// estimated distance grows again. Modes:
+// waypoint; reached within `reach_fraction` of the mission's tolerance, or within
+// `pass_fraction` of it once the estimated distance grows again. Modes:
 //  - cruise: omega_3 below the buckling threshold; with `steer_by_offset` the slider sits at the
 //    offset whose crab points the course at the waypoint (at most `max_steer_offset`; to one side
 //    once the waypoint is behind); the neutral is learnt by comparing the camera's course with
@@ -182,9 +182,11 @@ struct SteeringGains {
   double retrim_interval = 60.0;         ///< [s]
   double slider_margin = 2e-4;           ///< keep off the hard stops by this [m]
   double fix_gain = 0.3;                 ///< position: p += gain (fix - p)
-  /// A waypoint is reached within this share of the mission's tolerance, or within the
-  /// tolerance once the estimated distance has grown by pass_margin past its minimum.
+  /// A waypoint is reached within this share of the mission's tolerance, or within
+  /// pass_fraction of the tolerance once the estimated distance has grown by pass_margin past
+  /// its minimum (below 1, the estimate's error cannot carry a pass out of the tolerance).
   double reach_fraction = 0.5;
+  double pass_fraction = 1.0;
   double pass_margin = 1e-3;           ///< [m]
   double course_filter_time = 20.0;    ///< velocity from camera fixes, filtered [s]
   double crab_filter_time = 30.0;      ///< crab angle (course minus axis azimuth), filtered [s]
