@@ -1016,13 +1016,20 @@ TEST(MassTransformerController, AnAzimuthTheOffsetCannotTurnIsTurnedAtElevationA
   }
 }
 
-TEST(MassTransformerController, AWaypointPassedWithinTheToleranceCountsAfterTheClosestApproach) {
-  // No turning at all (no cycles, no offset steering): the straight path passes the waypoint
-  // 6 mm to the side, beyond reach_fraction x 10 mm but within the tolerance. It counts once
-  // the estimated distance has grown by pass_margin past its minimum, not before.
+// The earlier design's gains that never turn (no cycles, no offset steering, no turn at
+// elevation): the kinematic plant swims straight on.
+fc::SteeringGains straightOnGains() {
   fc::SteeringGains gains = legacyGains();
   gains.turn_threshold = gains.max_buckle_error = 1.5;
   gains.large_turn = gains.blocked_turn = M_PI;
+  return gains;
+}
+
+TEST(MassTransformerController, AWaypointPassedWithinTheToleranceCountsAfterTheClosestApproach) {
+  // No turning at all: the straight path passes the waypoint 6 mm to the side, beyond
+  // reach_fraction x 10 mm but within the tolerance. It counts once the estimated distance has
+  // grown by pass_margin past its minimum, not before.
+  const fc::SteeringGains gains = straightOnGains();
   fc::MassTransformerController controller(mission({Vec3(0.03, 0.006, 0.0)}, 0.01), calibration(),
                                            gains);
   Plant plant = legacyPlant();
@@ -1043,9 +1050,7 @@ TEST(MassTransformerController, AWaypointPassedWithinTheToleranceCountsAfterTheC
 TEST(MassTransformerController, APassBeyondPassFractionOfTheToleranceDoesNotCount) {
   // The same straight path, 6 mm to the side of the waypoint, with pass_fraction 0.5: a pass
   // counts within 5 mm only, so the waypoint is still ahead 10 mm past its closest approach.
-  fc::SteeringGains gains = legacyGains();
-  gains.turn_threshold = gains.max_buckle_error = 1.5;
-  gains.large_turn = gains.blocked_turn = M_PI;
+  fc::SteeringGains gains = straightOnGains();
   gains.pass_fraction = 0.5;
   fc::MassTransformerController controller(mission({Vec3(0.03, 0.006, 0.0)}, 0.01), calibration(),
                                            gains);

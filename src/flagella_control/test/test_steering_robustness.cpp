@@ -30,6 +30,30 @@ RobustnessOptions oneWrongModelRun(const std::string& config_name, double max_du
   return options;
 }
 
+// The report of oneWrongModelRun: the nominal reference reached the waypoint; the closed loop
+// and the replay ran on the same wrong model, every key off by options.error one way or the
+// other; the closed loop reached the waypoint without a halt and the replay did not.
+void expectTheClosedLoopReachesWhatTheReplayMisses(const RobustnessReport& report,
+                                                   const RobustnessOptions& options) {
+  ASSERT_EQ(report.references.at(0).reached, 1) << "the nominal run itself misses the climb";
+  ASSERT_EQ(report.runs.size(), 2u);
+  const RobustnessRun& closed = report.runs[0];
+  const RobustnessRun& open = report.runs[1];
+  ASSERT_EQ(closed.kind, "mismatched closed");
+  ASSERT_EQ(open.kind, "mismatched open");
+  ASSERT_TRUE(closed.error.empty()) << closed.error;
+  ASSERT_TRUE(open.error.empty()) << open.error;
+  EXPECT_EQ(closed.factors, open.factors);
+  ASSERT_EQ(closed.factors.size(), options.keys.size());
+  for (const auto& [key, factor] : closed.factors)
+    EXPECT_NEAR(std::abs(factor - 1.0), options.error, 1e-12) << key;
+  EXPECT_FALSE(closed.result.halted) << closed.result.halt_reason;
+  EXPECT_EQ(closed.result.reached, 1)
+      << "closed loop missed by " << 1e3 * closed.result.max_miss << " mm";
+  EXPECT_EQ(open.result.reached, 0)
+      << "open loop passed within " << 1e3 * open.result.max_miss << " mm";
+}
+
 TEST(SteeringRobustness, OnAWrongModelTheClosedLoopReachesAClimbThatTheNominalScheduleMisses) {
   // [s]; the demo's runs reach the climb at 65-105 s
   const RobustnessOptions options = oneWrongModelRun("helical_steering.yaml", 200.0);
@@ -40,24 +64,9 @@ TEST(SteeringRobustness, OnAWrongModelTheClosedLoopReachesAClimbThatTheNominalSc
   mission.course_time = 30.0;  // [s] of straight cruise give the start frame's x
   const RobustnessReport report = runRobustness(options, calibration, mission, SteeringGains{});
 
-  ASSERT_EQ(report.references.at(0).reached, 1) << "the nominal run itself misses the climb";
-  ASSERT_EQ(report.runs.size(), 2u);
+  ASSERT_NO_FATAL_FAILURE(expectTheClosedLoopReachesWhatTheReplayMisses(report, options));
   const RobustnessRun& closed = report.runs[0];
   const RobustnessRun& open = report.runs[1];
-  ASSERT_EQ(closed.kind, "mismatched closed");
-  ASSERT_EQ(open.kind, "mismatched open");
-  ASSERT_TRUE(closed.error.empty()) << closed.error;
-  ASSERT_TRUE(open.error.empty()) << open.error;
-  // The same wrong model for both, every key off by 20 % one way or the other.
-  EXPECT_EQ(closed.factors, open.factors);
-  ASSERT_EQ(closed.factors.size(), options.keys.size());
-  for (const auto& [key, factor] : closed.factors)
-    EXPECT_NEAR(std::abs(factor - 1.0), options.error, 1e-12) << key;
-  EXPECT_FALSE(closed.result.halted) << closed.result.halt_reason;
-  EXPECT_EQ(closed.result.reached, 1)
-      << "closed loop missed by " << 1e3 * closed.result.max_miss << " mm";
-  EXPECT_EQ(open.result.reached, 0)
-      << "open loop passed within " << 1e3 * open.result.max_miss << " mm";
   EXPECT_GT(open.result.max_miss, closed.result.max_miss);
   std::printf("closed loop: miss %.1f mm at %.0f s; open loop: miss %.1f mm (tolerance %.0f mm)\n",
               1e3 * closed.result.max_miss, closed.result.time, 1e3 * open.result.max_miss,
@@ -88,20 +97,9 @@ TEST(SteeringRobustness, OnTheSourceRobotAWrongModelsTurnsInPlacePassTheClimbThe
   mission.course_time = 30.0;  // [s] of straight cruise give the start frame's x
   const RobustnessReport report = runRobustness(options, calibration, mission, gains);
 
-  ASSERT_EQ(report.references.at(0).reached, 1) << "the nominal run itself misses the climb";
-  ASSERT_EQ(report.runs.size(), 2u);
+  ASSERT_NO_FATAL_FAILURE(expectTheClosedLoopReachesWhatTheReplayMisses(report, options));
   const RobustnessRun& closed = report.runs[0];
   const RobustnessRun& open = report.runs[1];
-  ASSERT_TRUE(closed.error.empty()) << closed.error;
-  ASSERT_TRUE(open.error.empty()) << open.error;
-  EXPECT_EQ(closed.factors, open.factors);
-  for (const auto& [key, factor] : closed.factors)
-    EXPECT_NEAR(std::abs(factor - 1.0), options.error, 1e-12) << key;
-  EXPECT_FALSE(closed.result.halted) << closed.result.halt_reason;
-  EXPECT_EQ(closed.result.reached, 1)
-      << "closed loop missed by " << 1e3 * closed.result.max_miss << " mm";
-  EXPECT_EQ(open.result.reached, 0)
-      << "open loop passed within " << 1e3 * open.result.max_miss << " mm";
   std::printf(
       "source robot, turns in place: closed loop: miss %.1f mm, reached at %.0f s; open loop: "
       "miss %.1f mm\n",
